@@ -1,0 +1,112 @@
+#include "harness.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace rg::bench {
+
+namespace {
+
+int gAllThreads = 0;
+
+const char* const kPeers[] = {"llvmpipe", "embree"};
+
+// Replaces the second '/'-separated field of `name` by `impl`; empty when there is none.
+std::string withImplementation(const std::string& name, const std::string& impl) {
+    size_t a = name.find('/');
+    if (a == std::string::npos) return {};
+    size_t b = name.find('/', a + 1);
+    return name.substr(0, a + 1) + impl + (b == std::string::npos ? "" : name.substr(b));
+}
+
+std::string implementationOf(const std::string& name) {
+    size_t a = name.find('/');
+    if (a == std::string::npos) return {};
+    size_t b = name.find('/', a + 1);
+    return name.substr(a + 1, b == std::string::npos ? std::string::npos : b - a - 1);
+}
+
+// Console output as usual, and a copy of each run's throughput for the ratio table.
+class RatioReporter : public benchmark::ConsoleReporter {
+  public:
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const Run& run : runs) {
+            if (run.error_occurred || run.run_type != Run::RT_Iteration) continue;
+            auto it = run.counters.find("items_per_second");
+            if (it != run.counters.end())
+                throughput[run.benchmark_name()] = double(it->second.value);
+        }
+        ConsoleReporter::ReportRuns(runs);
+    }
+    std::map<std::string, double> throughput;
+};
+
+}  // namespace
+
+int allThreads() {
+    if (gAllThreads > 0) return gAllThreads;
+    unsigned n = std::thread::hardware_concurrency();
+    return n == 0 ? 1 : int(n);
+}
+
+int run(const Options& options, const char* argv0) {
+    if (options.threads > 0) gAllThreads = options.threads;
+    std::vector<std::string> args = {argv0};
+    if (!options.filter.empty()) args.push_back("--benchmark_filter=" + options.filter);
+    if (options.minTime > 0)
+        args.push_back("--benchmark_min_time=" + std::to_string(options.minTime));
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    int argc = int(argv.size());
+    benchmark::Initialize(&argc, argv.data());
+
+    RatioReporter reporter;
+    size_t count = benchmark::RunSpecifiedBenchmarks(&reporter);
+    if (count == 0) {
+        std::fprintf(stderr, "retroglass bench: no benchmark matches the filter '%s'\n",
+                     options.filter.c_str());
+        return 1;
+    }
+
+    // Ratio table: ours over each peer run in the same process.
+    nlohmann::json ratios = nlohmann::json::array();
+    std::printf("\n%-60s %14s %14s %8s\n", "workload (ours vs peer)", "ours items/s",
+                "peer items/s", "ratio");
+    for (const auto& [name, ours] : reporter.throughput) {
+        if (implementationOf(name) != "retroglass") continue;
+        for (const char* peer : kPeers) {
+            auto it = reporter.throughput.find(withImplementation(name, peer));
+            if (it == reporter.throughput.end() || it->second <= 0) continue;
+            double ratio = ours / it->second;
+            std::printf("%-60s %14.4g %14.4g %8.2f\n", (name + " vs " + peer).c_str(), ours,
+                        it->second, ratio);
+            ratios.push_back({{"benchmark", name},
+                              {"peer", peer},
+                              {"ours_items_per_second", ours},
+                              {"peer_items_per_second", it->second},
+                              {"ratio", ratio}});
+        }
+    }
+    if (!options.jsonPath.empty()) {
+        nlohmann::json out;
+        out["throughput_items_per_second"] = reporter.throughput;
+        out["ratios"] = ratios;
+        std::ofstream f(options.jsonPath);
+        if (!f) {
+            std::fprintf(stderr, "retroglass bench: cannot write %s\n", options.jsonPath.c_str());
+            return 1;
+        }
+        f << out.dump(2) << "\n";
+    }
+    benchmark::Shutdown();
+    return 0;
+}
+
+}  // namespace rg::bench

@@ -1,0 +1,183 @@
+// `retroglass`: the command-line program behind ./retroglass (see README.md).
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "core/error.h"
+#include "core/profile.h"
+#include "reproductions.h"
+#ifdef RETROGLASS_HAVE_BENCH
+#include "harness.h"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct GlobalOptions {
+    int threads = 0;
+};
+
+int hardwareThreads() {
+    unsigned n = std::thread::hardware_concurrency();
+    return n == 0 ? 1 : int(n);
+}
+
+// ---- profiles ---------------------------------------------------------------------------
+int runProfiles() {
+    for (const rg::Profile& p : rg::allProfiles()) {
+        std::printf("%s\n  machine        %s\n  api            %s\n", std::string(p.name).c_str(),
+                    std::string(p.machine).c_str(), std::string(p.apiName).c_str());
+        std::printf("  texture stages %d per pass, %d coordinate sets\n", p.maxTextureStages,
+                    p.maxTexCoordSets);
+        std::printf("  max texture    %d (cube %d, 4D %d)%s\n", p.maxTextureSize, p.maxCubeMapSize,
+                    p.max4DTextureSize, p.powerOfTwoOnly ? ", powers of two only" : "");
+        std::printf("  texture memory %llu MiB\n",
+                    (unsigned long long)(p.textureMemoryBytes >> 20));
+        std::printf("  color table    %d entries\n", p.colorTableSize);
+        std::printf("  framebuffer    RGBA%d, max viewport %d, %d subpixel bits\n", p.colorBits,
+                    p.maxViewport, p.subpixelBits);
+        std::printf("  features      ");
+        for (uint32_t f = 0; f < uint32_t(rg::Feature::Count); ++f)
+            if (p.has(rg::Feature(f)))
+                std::printf(" [%s]", std::string(rg::featureName(rg::Feature(f))).c_str());
+        std::printf("\n  sources        %s\n\n", std::string(p.sources).c_str());
+    }
+    return 0;
+}
+
+// ---- reproduce --------------------------------------------------------------------------
+void writeIndex(const fs::path& out) {
+    std::ofstream html(out / "index.html");
+    html << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>retroglass "
+            "reproductions</title>\n<style>body{font-family:sans-serif;max-width:50em;margin:2em "
+            "auto}td{padding:.3em 1em}</style></head><body>\n<h1>retroglass reproductions</h1>\n"
+            "<table>\n<tr><th>paper</th><th>profile</th><th>report</th></tr>\n";
+    for (const auto& r : rg::demos::reproductions()) {
+        bool built = r.run && fs::exists(out / r.name / "report.md");
+        html << "<tr><td>" << r.paper << "</td><td>" << r.profile << "</td><td>";
+        if (built)
+            html << "<a href=\"" << r.name << "/report.md\">" << r.name << "/report.md</a>";
+        else if (r.run)
+            html << "not run yet: <code>./retroglass reproduce " << r.name << "</code>";
+        else
+            html << "not built yet";
+        html << "</td></tr>\n";
+    }
+    html << "</table>\n</body></html>\n";
+}
+
+int runReproduce(const std::string& name, const std::string& quality, const std::string& outDir,
+                 const std::string& scene, const std::string& views, const GlobalOptions& g) {
+    rg::demos::ReproduceOptions base;
+    if (quality == "quick")
+        base.quality = rg::demos::Quality::Quick;
+    else if (quality == "paper")
+        base.quality = rg::demos::Quality::Paper;
+    else
+        throw rg::Error("unknown quality '" + quality + "' (use quick or paper)");
+    base.threads = g.threads;
+    base.scene = scene;
+    base.views = views;
+
+    bool any = false, known = false;
+    int status = 0;
+    fs::create_directories(outDir);
+    for (const auto& r : rg::demos::reproductions()) {
+        if (name != "all" && name != r.name) continue;
+        known = true;
+        if (!r.run) {
+            std::printf("%-10s not built yet (%s)\n", r.name.c_str(), r.paper.c_str());
+            continue;
+        }
+        any = true;
+        rg::demos::ReproduceOptions o = base;
+        o.outDir = fs::path(outDir) / r.name;
+        fs::create_directories(o.outDir);
+        std::printf("%-10s reproducing on profile %s at %s quality into %s\n", r.name.c_str(),
+                    r.profile.c_str(), quality.c_str(), o.outDir.string().c_str());
+        std::fflush(stdout);
+        int rc = r.run(o);
+        if (rc != 0) {
+            std::fprintf(stderr, "%s: reproduction failed with status %d\n", r.name.c_str(), rc);
+            status = rc;
+        }
+    }
+    if (!known) throw rg::Error("unknown reproduction '" + name + "'");
+    writeIndex(outDir);
+    std::printf("index: %s\n", (fs::path(outDir) / "index.html").string().c_str());
+    if (!any) std::printf("no reproduction is built yet; out/index.html lists the papers\n");
+    return status;
+}
+
+// ---- test -------------------------------------------------------------------------------
+int runTests(const std::vector<std::string>& extra, const GlobalOptions& g) {
+    std::string cmd = "ctest --test-dir '" RETROGLASS_BUILD_DIR "' --output-on-failure -j " +
+                      std::to_string(g.threads > 0 ? g.threads : hardwareThreads());
+    for (const auto& e : extra) cmd += " '" + e + "'";
+    std::printf("%s\n", cmd.c_str());
+    std::fflush(stdout);
+    int rc = std::system(cmd.c_str());
+    return rc == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"retroglass: 1999-2008 graphics hardware, emulated bit-exactly on the CPU, "
+                 "reproducing five papers on interactive reflections and refractions"};
+    app.require_subcommand(1);
+    GlobalOptions g;
+    app.add_option("--threads", g.threads, "worker threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+
+    auto* profiles = app.add_subcommand("profiles", "print every hardware profile and its limits");
+
+    std::string reproName = "all", quality = "quick", outDir = "out", scene, views;
+    auto* reproduce = app.add_subcommand(
+        "reproduce", "run the paper reproductions into out/ (with out/index.html)");
+    reproduce->add_option("name", reproName, "pem, hybrid, lightfield, impostors, tir or all");
+    reproduce->add_option("--quality", quality, "quick (minutes) or paper (the paper's settings)")
+        ->check(CLI::IsMember({"quick", "paper"}));
+    reproduce->add_option("--out", outDir, "output folder");
+    reproduce->add_option("--scene", scene, "a scene file (docs/scene-format.md) to use instead");
+    reproduce->add_option("--views", views, "viewpoint range A:B of a split precompute");
+
+    std::vector<std::string> testArgs;
+    auto* test = app.add_subcommand("test", "run the whole test suite through CTest");
+    test->add_option("ctest-args", testArgs, "extra arguments for ctest (e.g. -R blend)");
+
+#ifdef RETROGLASS_HAVE_BENCH
+    rg::bench::Options benchOptions;
+    auto* bench = app.add_subcommand(
+        "bench", "benchmarks against the peers measured in the same run, with ratios");
+    bench->add_option("--filter", benchOptions.filter, "regular expression over benchmark names");
+    bench->add_option("--json", benchOptions.jsonPath, "write throughputs and ratios as JSON");
+    bench->add_option("--min-time", benchOptions.minTime, "seconds per benchmark");
+#endif
+
+    CLI11_PARSE(app, argc, argv);
+    try {
+        if (*profiles) return runProfiles();
+        if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, g);
+        if (*test) return runTests(testArgs, g);
+#ifdef RETROGLASS_HAVE_BENCH
+        if (*bench) {
+            benchOptions.threads = g.threads;
+            return rg::bench::run(benchOptions, argv[0]);
+        }
+#endif
+    } catch (const rg::Error& e) {
+        std::fprintf(stderr, "retroglass: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "retroglass: unexpected error: %s\n", e.what());
+        return 3;
+    }
+    return 0;
+}

@@ -1,0 +1,104 @@
+// The emulated graphics device: a Direct3D 7-style immediate-mode pipeline on one
+// hardware profile, drawing into an RGBA8 framebuffer.
+//
+//   vertices ─▶ transform (world·view·projection) ─▶ texture-coordinate generation
+//            ─▶ clip (near/far; guard band in x/y) ─▶ viewport, snap to fixed point
+//            ─▶ setup (edge functions, top-left rule, cull) ─▶ rasterize 2×2 quads
+//            ─▶ texture stages (texunit/) ─▶ specular add ─▶ alpha test ─▶ depth test
+//            ─▶ blend ─▶ colour write mask ─▶ framebuffer
+//
+// Every arithmetic step is specified in docs/hardware.md. The reference path runs that
+// specification literally on one thread; the fast path bins primitives into screen tiles
+// that threads own, keeps each pixel's primitive order, and must produce identical bytes.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "core/color.h"
+#include "core/path.h"
+#include "core/profile.h"
+#include "rasterizer/counters.h"
+#include "rasterizer/framebuffer.h"
+#include "rasterizer/state.h"
+#include "rasterizer/vertex.h"
+#include "texunit/texture_units.h"
+
+namespace rg::raster {
+
+struct DeviceOptions {
+    Path path = Path::Fast;
+    int threads = 0;  // 0: all cores
+};
+
+// One entry per Device::beginPass(): what the pass inspector shows.
+struct PassRecord {
+    std::string label;
+    uint64_t drawCalls = 0;
+};
+
+class Device {
+  public:
+    // Throws rg::InvalidState for a zero-size or over-limit framebuffer and
+    // rg::UnsupportedFeature for a depth format the profile lacks.
+    Device(const Profile& profile, int width, int height, DepthFormat depth,
+           DeviceOptions options = {});
+    ~Device();
+    Device(const Device&) = delete;
+    Device& operator=(const Device&) = delete;
+
+    const Profile& profile() const;
+    const DeviceOptions& options() const;
+    void setPath(Path path);
+    void setThreads(int threads);
+
+    // ---- state ---------------------------------------------------------------------------
+    void setState(const PipelineState& state);  // validated at draw time
+    const PipelineState& state() const;
+    void setTransforms(const glm::mat4& world, const glm::mat4& view, const glm::mat4& projection);
+    void setViewport(const Viewport& viewport);  // throws for zero size or outside the target
+    void setScissor(const Rect& rect);
+    // The texture side of the device (stages, bindings, texgen, colour tables, pixel
+    // texture). Configure it through texunit's API; it is validated at draw time.
+    tex::TextureUnits& textureUnits();
+    const tex::TextureUnits& textureUnits() const;
+
+    // ---- frames and passes --------------------------------------------------------------
+    void beginFrame();                       // resets the counters and the pass list
+    void beginPass(std::string label);       // counts a geometry pass (the papers' unit)
+    const std::vector<PassRecord>& passes() const;
+    // Optional hook run after each pass ends (next beginPass or endFrame): pass inspector.
+    void setPassObserver(std::function<void(const PassRecord&, const Framebuffer&)> observer);
+    void endFrame();
+
+    // ---- commands -----------------------------------------------------------------------
+    // Clears colour and/or depth inside the viewport (and scissor when enabled).
+    void clear(bool color, Rgba8 colorValue, bool depth, float depthValue);
+    // Draws `count` vertices (indices == empty) or indexed primitives. Invalid vertices
+    // (NaN/Inf) drop their triangles and count in trianglesInvalid.
+    void draw(Primitive primitive, VertexSpace space, std::span<const Vertex> vertices,
+              std::span<const uint32_t> indices = {});
+    // Pixel transfer: writes `pixels` (width×height, rows top to bottom) at window (x, y)
+    // through the pixel-transfer stage (SGIX_pixel_texture when enabled).
+    void drawPixels(int x, int y, int width, int height, std::span<const Rgba8> pixels);
+    // Copies a window rectangle through the pixel-transfer stage to (dstX, dstY).
+    void copyPixels(int srcX, int srcY, int width, int height, int dstX, int dstY);
+    // Reads back a rectangle of the colour buffer (counts bytesReadBack).
+    std::vector<Rgba8> readPixels(int x, int y, int width, int height);
+
+    Framebuffer& framebuffer();
+    const Framebuffer& framebuffer() const;
+    const Counters& counters() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rg::raster

@@ -1,0 +1,30 @@
+// Vertices as the application submits them (a superset of the Direct3D 7 FVF formats).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "core/color.h"
+#include "texunit/texture_units.h"
+
+namespace rg::raster {
+
+struct Vertex {
+    // Untransformed: object-space (x, y, z, 1), transformed by world, view, projection.
+    // Pre-transformed (D3DFVF_XYZRHW): (x, y) in window pixels, z in [0, 1], and
+    // w = RHW, the reciprocal of the homogeneous w (used for perspective correction).
+    glm::vec4 position{0.0f, 0.0f, 0.0f, 1.0f};
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
+    Rgba8 diffuse{255, 255, 255, 255};
+    Rgba8 specular{0, 0, 0, 0};
+    std::array<glm::vec4, tex::kMaxTexCoordSets> tex{};
+};
+
+enum class VertexSpace : uint8_t { Untransformed, Pretransformed };
+
+enum class Primitive : uint8_t { TriangleList, TriangleStrip, TriangleFan };
+
+}  // namespace rg::raster

@@ -1,0 +1,76 @@
+// The seam between the rasterizer and the texture units.
+//
+// The rasterizer owns one TextureUnits value per device. It calls it at two points of the
+// pipeline and nowhere else:
+//   - per vertex, processVertexTexCoord(): texture-coordinate generation (D3D7 TCI_*, the
+//     OpenGL texgen modes) and the texture transform matrix;
+//   - per 2×2 pixel quad, shadeQuad(): for each enabled stage, projective divide, LOD from
+//     the quad's derivatives, mapping, filtering, colour table, and the stage's colour and
+//     alpha operations; the result is the fragment colour before the specular add, fog,
+//     alpha test and blending (Direct3D 7 pixel pipeline order, docs/hardware.md).
+// and, for pixel transfers (draw/copy pixels), applyPixelTransfer() (SGIX_pixel_texture).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "core/color.h"
+#include "core/path.h"
+#include "core/profile.h"
+
+namespace rg::tex {
+
+constexpr int kMaxTexCoordSets = 8;
+constexpr int kMaxStages = 16;
+
+// A vertex as texture-coordinate generation sees it.
+struct VertexEye {
+    glm::vec4 objectPosition;  // as submitted (object space, w = 1)
+    glm::vec4 eyePosition;     // camera space: view · world · objectPosition
+    glm::vec3 eyeNormal;       // camera space, normalized (inverse transpose of view · world)
+    glm::vec3 objectNormal;    // as submitted
+};
+
+// A 2×2 pixel quad as the rasterizer hands it to the texture units. Pixel i sits at
+// window (x + (i & 1), y + (i >> 1)). Pixels outside the primitive (coverage bit clear)
+// still carry attributes extrapolated from the plane equations, so that screen-space
+// derivatives — and hence LOD — are defined for every quad, as on the hardware.
+struct FragmentQuad {
+    int x = 0, y = 0;
+    uint8_t coverage = 0;
+    std::array<Rgba8, 4> diffuse{};
+    std::array<Rgba8, 4> specular{};
+    // [set][pixel] = (s, t, r, q), interpolated perspective-correctly; no divide by q yet.
+    std::array<std::array<glm::vec4, 4>, kMaxTexCoordSets> texCoord{};
+};
+
+// Per-frame texture counters (reset by the device with its own counters).
+struct TextureCounters {
+    uint64_t texelFetches = 0;
+    uint64_t uploadBytes = 0;
+};
+
+class TextureUnits {
+  public:
+    // ---- called by the rasterizer ----------------------------------------------------
+    // Throws rg::UnsupportedFeature / rg::InvalidState for a state `profile` cannot draw
+    // (more stages than it has, a cube map on a profile without cube maps, ...).
+    void validate(const Profile& profile) const;
+    // True when no stage reads a texture or changes the colour: out = diffuse.
+    bool passThrough() const;
+    // Bit i set: coordinate set i is read by some stage and must be interpolated.
+    uint32_t texCoordSetsUsed() const;
+    // Per vertex: coordinate set `set` after generation and the texture matrix.
+    glm::vec4 processVertexTexCoord(int set, const VertexEye& v, const glm::vec4& in) const;
+    // Per quad: the stage cascade. `out` receives the RGBA8 colour of all 4 pixels.
+    void shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out, Path path) const;
+    // Pixel transfer of one row (SGIX_pixel_texture when enabled; identity otherwise).
+    void applyPixelTransfer(std::span<Rgba8> pixels) const;
+};
+
+}  // namespace rg::tex
