@@ -64,6 +64,8 @@ class Device {
     void setTransforms(const glm::mat4& world, const glm::mat4& view, const glm::mat4& projection);
     void setViewport(const Viewport& viewport);  // throws for zero size or outside the target
     void setScissor(const Rect& rect);
+    const Viewport& viewport() const;
+    const Rect& scissor() const;
     // The texture side of the device (stages, bindings, texgen, colour tables, pixel
     // texture). Configure it through texunit's API; it is validated at draw time.
     tex::TextureUnits& textureUnits();

@@ -1,0 +1,226 @@
+// The device: state, frames and passes, and the draw call that runs the stages of
+// pipeline.h on the reference path or the fast path.
+#include "rasterizer/device.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "core/error.h"
+#include "device_impl.h"
+#include "pipeline.h"
+#include "raster_tiles.h"
+
+namespace rg::raster {
+
+using namespace detail;
+
+// ---- state validation ----------------------------------------------------------------
+namespace {
+
+template <class E>
+void checkEnum(E value, E last, const char* name) {
+    if (static_cast<uint32_t>(value) > static_cast<uint32_t>(last))
+        throw InvalidState(std::string(name) + " = " + std::to_string(static_cast<int>(value)) +
+                           " is out of range");
+}
+
+}  // namespace
+
+void Device::Impl::validateState() const {
+    const PipelineState& s = state;
+    checkEnum(s.cull, CullMode::CCW, "cull mode");
+    checkEnum(s.shade, ShadeMode::Gouraud, "shade mode");
+    checkEnum(s.depthFunc, CompareFunc::Always, "depth function");
+    checkEnum(s.alphaFunc, CompareFunc::Always, "alpha function");
+    checkEnum(s.srcBlend, BlendFactor::BothInvSrcAlpha, "source blend factor");
+    checkEnum(s.dstBlend, BlendFactor::BothInvSrcAlpha, "destination blend factor");
+    checkEnum(s.blendOp, BlendOp::Max, "blend operation");
+    if (s.colorWriteMask > kWriteRGBA)
+        throw InvalidState("colour write mask " + std::to_string(s.colorWriteMask) +
+                           " has bits beyond RGBA");
+    if (s.blend) {
+        // D3D7: BOTHSRCALPHA and BOTHINVSRCALPHA are source blend modes only.
+        if (s.dstBlend == BlendFactor::BothSrcAlpha || s.dstBlend == BlendFactor::BothInvSrcAlpha)
+            throw InvalidState("destination blend factor BOTHSRCALPHA/BOTHINVSRCALPHA is only "
+                               "valid as a source blend factor");
+        if (s.blendOp == BlendOp::Subtract || s.blendOp == BlendOp::RevSubtract)
+            profile.require(Feature::BlendSubtract, "blend operation subtract/revsubtract");
+        if (s.blendOp == BlendOp::Min || s.blendOp == BlendOp::Max)
+            profile.require(Feature::BlendMinMax, "blend operation min/max");
+    }
+}
+
+// ---- draw ----------------------------------------------------------------------------
+void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const Vertex> vertices,
+                        std::span<const uint32_t> indices) {
+    checkEnum(primitive, Primitive::TriangleFan, "primitive type");
+    checkEnum(space, VertexSpace::Pretransformed, "vertex space");
+    validateState();
+    textureUnits.validate(profile);
+    for (uint32_t i : indices)
+        if (i >= vertices.size())
+            throw InvalidState("index " + std::to_string(i) + " is past the " +
+                               std::to_string(vertices.size()) + " vertices of the draw");
+    ++counters.drawCalls;
+    if (passOpen) ++passes.back().drawCalls;
+
+    const DrawContext dc = makeDrawContext(state, fb, textureUnits, options.path, space, viewport,
+                                           scissor, profile.subpixelBits);
+    const glm::mat4 worldView = view * world;
+    const glm::mat4 worldViewProj = projection * worldView;
+    const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(worldView)));
+
+    const uint32_t vertexCount = uint32_t(indices.empty() ? vertices.size() : indices.size());
+    const uint32_t triangles = triangleCount(primitive, vertexCount);
+    auto vertexOf = [&](uint32_t k) { return indices.empty() ? k : indices[k]; };
+
+    // Vertex stage: every submitted vertex once, independent of the others.
+    std::vector<ProcessedVertex> processed(vertices.size());
+    auto processRange = [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i)
+            processed[i] = processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
+    };
+    auto setupRange = [&](uint32_t b, uint32_t e, std::vector<SetupTriangle>& out,
+                          GeometryCounters& gc) {
+        for (uint32_t i = b; i < e; ++i) {
+            auto tv = triangleVertices(primitive, i);
+            uint32_t a = vertexOf(tv[0]), bb = vertexOf(tv[1]), c = vertexOf(tv[2]);
+            clipAndSetup(dc, processed[a], processed[bb], processed[c], vertices[a].diffuse,
+                         vertices[a].specular, out, gc);
+        }
+    };
+
+    GeometryCounters gc;
+    RasterCounters rc;
+    if (options.path == Path::Reference) {
+        processRange(0, vertices.size());
+        std::vector<SetupTriangle> tris;
+        setupRange(0, triangles, tris, gc);
+        rasterizeReference(dc, tris, rc);
+    } else {
+        // Fast path: vertices and triangle chunks in parallel (each writes only its own
+        // output), then tiles in parallel; a tile walks the chunks and their triangles in
+        // submission order, so each pixel sees its triangles in the reference's order.
+        constexpr uint32_t kChunk = 1024;
+        const int tilesX = (fb.width() + kTileSize - 1) / kTileSize;
+        const int tilesY = (fb.height() + kTileSize - 1) / kTileSize;
+        const uint32_t chunkCount = (triangles + kChunk - 1) / kChunk;
+        std::vector<TriangleChunk> chunks(chunkCount);
+        std::vector<RasterCounters> tileCounters(size_t(tilesX) * tilesY);
+        arena->execute([&] {
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, vertices.size(), 4096),
+                              [&](const tbb::blocked_range<size_t>& r) {
+                                  processRange(r.begin(), r.end());
+                              });
+            tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
+                TriangleChunk& ch = chunks[c];
+                setupRange(c * kChunk, std::min(triangles, (c + 1) * kChunk), ch.tris, ch.geometry);
+                binChunk(ch, tilesX, tilesY);
+            });
+            tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
+                rasterizeTile(dc, chunks, tile, tilesX, tileCounters[size_t(tile)]);
+            });
+        });
+        for (const TriangleChunk& ch : chunks) gc.add(ch.geometry);
+        for (const RasterCounters& t : tileCounters) rc.add(t);
+    }
+    counters.trianglesSubmitted += gc.submitted;
+    counters.trianglesCulled += gc.culled;
+    counters.trianglesClipped += gc.clipped;
+    counters.trianglesDrawn += gc.drawn;
+    counters.trianglesInvalid += gc.invalid;
+    counters.fragmentsGenerated += rc.generated;
+    counters.fragmentsWritten += rc.written;
+    counters.blendOps += rc.blendOps;
+}
+
+// ---- Device ----------------------------------------------------------------------------
+Device::Device(const Profile& profile, int width, int height, DepthFormat depth,
+               DeviceOptions options)
+    : impl_(std::make_unique<Impl>(profile, width, height, depth, options)) {}
+Device::~Device() = default;
+
+const Profile& Device::profile() const { return impl_->profile; }
+const DeviceOptions& Device::options() const { return impl_->options; }
+void Device::setPath(Path path) { impl_->options.path = path; }
+void Device::setThreads(int threads) {
+    if (threads < 0) throw InvalidState("thread count " + std::to_string(threads) + " is negative");
+    impl_->options.threads = threads;
+    impl_->makeArena();
+}
+
+void Device::setState(const PipelineState& state) { impl_->state = state; }
+const PipelineState& Device::state() const { return impl_->state; }
+void Device::setTransforms(const glm::mat4& world, const glm::mat4& view,
+                           const glm::mat4& projection) {
+    impl_->world = world;
+    impl_->view = view;
+    impl_->projection = projection;
+}
+
+void Device::setViewport(const Viewport& v) {
+    const Framebuffer& fb = impl_->fb;
+    if (v.width <= 0 || v.height <= 0)
+        throw InvalidState("viewport size " + std::to_string(v.width) + "x" +
+                           std::to_string(v.height) + " is empty");
+    if (v.x < 0 || v.y < 0 || int64_t(v.x) + v.width > fb.width() ||
+        int64_t(v.y) + v.height > fb.height())
+        throw InvalidState("viewport (" + std::to_string(v.x) + ", " + std::to_string(v.y) + ") " +
+                           std::to_string(v.width) + "x" + std::to_string(v.height) +
+                           " lies outside the " + std::to_string(fb.width()) + "x" +
+                           std::to_string(fb.height()) + " render target");
+    if (!(v.minZ >= 0.0f && v.minZ <= 1.0f && v.maxZ >= 0.0f && v.maxZ <= 1.0f))
+        throw InvalidState("viewport depth range [" + std::to_string(v.minZ) + ", " +
+                           std::to_string(v.maxZ) + "] is not inside [0, 1]");
+    impl_->viewport = v;
+}
+
+void Device::setScissor(const Rect& r) {
+    if (r.width < 0 || r.height < 0)
+        throw InvalidState("scissor size " + std::to_string(r.width) + "x" +
+                           std::to_string(r.height) + " is negative");
+    impl_->scissor = r;
+}
+
+const Viewport& Device::viewport() const { return impl_->viewport; }
+const Rect& Device::scissor() const { return impl_->scissor; }
+
+tex::TextureUnits& Device::textureUnits() { return impl_->textureUnits; }
+const tex::TextureUnits& Device::textureUnits() const { return impl_->textureUnits; }
+
+void Device::beginFrame() {
+    impl_->endPass();
+    impl_->counters = Counters{};
+    impl_->passes.clear();
+}
+
+void Device::beginPass(std::string label) {
+    impl_->endPass();
+    impl_->passes.push_back(PassRecord{std::move(label), 0});
+    impl_->passOpen = true;
+    ++impl_->counters.passes;
+}
+
+const std::vector<PassRecord>& Device::passes() const { return impl_->passes; }
+void Device::setPassObserver(std::function<void(const PassRecord&, const Framebuffer&)> observer) {
+    impl_->observer = std::move(observer);
+}
+void Device::endFrame() { impl_->endPass(); }
+
+void Device::draw(Primitive primitive, VertexSpace space, std::span<const Vertex> vertices,
+                  std::span<const uint32_t> indices) {
+    impl_->draw(primitive, space, vertices, indices);
+}
+
+Framebuffer& Device::framebuffer() { return impl_->fb; }
+const Framebuffer& Device::framebuffer() const { return impl_->fb; }
+const Counters& Device::counters() const { return impl_->counters; }
+
+}  // namespace rg::raster

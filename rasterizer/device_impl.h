@@ -1,0 +1,69 @@
+// Internal to rasterizer/: the device's state, shared by device.cpp (draws, frames) and
+// pixel_transfer.cpp (clears, pixel transfers, read-back).
+#pragma once
+
+#include <algorithm>
+#include <memory>
+#include <string>
+
+#include <tbb/task_arena.h>
+
+#include "core/error.h"
+#include "rasterizer/device.h"
+
+namespace rg::raster {
+
+struct Device::Impl {
+    const Profile& profile;
+    DeviceOptions options;
+    Framebuffer fb;
+    PipelineState state;
+    glm::mat4 world{1.0f}, view{1.0f}, projection{1.0f};
+    Viewport viewport;
+    Rect scissor;
+    tex::TextureUnits textureUnits;
+    Counters counters;
+    std::vector<PassRecord> passes;
+    bool passOpen = false;
+    std::function<void(const PassRecord&, const Framebuffer&)> observer;
+    std::unique_ptr<tbb::task_arena> arena;
+
+    Impl(const Profile& p, int w, int h, DepthFormat d, DeviceOptions o)
+        : profile(p), options(o), fb(checkedFramebuffer(p, w, h, d)) {
+        viewport = Viewport{0, 0, w, h, 0.0f, 1.0f};
+        scissor = Rect{0, 0, w, h};
+        makeArena();
+    }
+
+    static Framebuffer checkedFramebuffer(const Profile& p, int w, int h, DepthFormat d) {
+        if (w <= 0 || h <= 0 || w > p.maxViewport || h > p.maxViewport)
+            throw InvalidState("render target " + std::to_string(w) + "x" + std::to_string(h) +
+                               " is empty or exceeds the maximum viewport " +
+                               std::to_string(p.maxViewport) + " of profile '" +
+                               std::string(p.name) + "'");
+        switch (d) {
+            case DepthFormat::None: break;
+            case DepthFormat::D16: p.require(Feature::Depth16, "D16 depth buffer"); break;
+            case DepthFormat::D24: p.require(Feature::Depth24, "D24 depth buffer"); break;
+            default: throw InvalidState("depth format " + std::to_string(int(d)) + " out of range");
+        }
+        return Framebuffer(w, h, d);
+    }
+
+    void makeArena() {
+        int n = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+        arena = std::make_unique<tbb::task_arena>(std::max(1, n));
+    }
+
+    void endPass() {
+        if (!passOpen) return;
+        passOpen = false;
+        if (observer) observer(passes.back(), fb);
+    }
+
+    void validateState() const;
+    void draw(Primitive primitive, VertexSpace space, std::span<const Vertex> vertices,
+              std::span<const uint32_t> indices);
+};
+
+}  // namespace rg::raster

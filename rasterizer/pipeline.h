@@ -1,0 +1,143 @@
+// Internal to rasterizer/: the values that flow between the stages of one draw call.
+//
+//   Device::draw ─▶ transform_clip.cpp (ProcessedVertex, clip polygon)
+//                ─▶ setup_triangle.cpp (SetupTriangle: fixed-point edges, attribute planes)
+//                ─▶ raster_reference.cpp  or  raster_tiles.cpp (2×2 quads)
+//                ─▶ fragment_quad.h (texture stages, specular, alpha, depth, blend, mask)
+//
+// Both raster paths consume the same SetupTriangle and call the same processQuad(), so
+// the only thing they may differ in is which quads they visit and in what order across
+// tiles; docs/hardware.md explains why that cannot change a byte.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include "core/color.h"
+#include "core/path.h"
+#include "rasterizer/counters.h"
+#include "rasterizer/framebuffer.h"
+#include "rasterizer/state.h"
+#include "rasterizer/vertex.h"
+#include "texunit/texture_units.h"
+
+namespace rg::raster::detail {
+
+// Guard band: window coordinates are clipped to [−16384, 16384] pixels in x and y before
+// snapping. With 8 subpixel bits a snapped coordinate needs 23 bits with sign, an edge
+// coefficient 24 bits and an edge value |E| < 2^48: int64 holds every edge function with
+// 15 bits to spare (docs/hardware.md, "Setup and rasterization").
+constexpr int kGuardBandPixels = 16384;
+
+// Interpolated attributes per vertex: diffuse RGBA, specular RGBA (0..255 scale), then
+// 4 components for each texture-coordinate set in use, in set order.
+constexpr int kColorAttrs = 8;
+constexpr int kMaxAttrs = kColorAttrs + 4 * tex::kMaxTexCoordSets;
+
+struct ProcessedVertex {
+    glm::vec4 clip{0.0f};        // homogeneous clip position (pre-transformed: w = 1/RHW)
+    float wx = 0, wy = 0, wz = 0;  // window position
+    float invW = 0;              // 1/w (RHW)
+    std::array<float, kMaxAttrs> attr{};
+    bool valid = true;           // finite position, finite clip coordinates
+};
+
+// Per-draw constants shared by every stage.
+struct DrawContext {
+    PipelineState st;
+    Framebuffer* fb = nullptr;
+    const tex::TextureUnits* tu = nullptr;
+    Path path = Path::Reference;
+    VertexSpace space = VertexSpace::Untransformed;
+    Viewport vp;
+    int subpixelBits = 4;
+    bool passThrough = true;      // no texture stage: fragment colour = diffuse
+    int numTexSets = 0;
+    std::array<int, tex::kMaxTexCoordSets> texSets{};  // which sets, in order
+    int numAttrs = kColorAttrs;
+    bool gouraud = true;
+    bool perspectiveColor = true;
+    bool needSpecular = false;    // specular add on, or a texture stage may read it
+    bool depthOn = false;         // depth test with a depth buffer present
+    uint32_t depthMax = 0;
+    // Pixels that may be written: viewport ∩ scissor ∩ target, [x0, x1) × [y0, y1).
+    int clipX0 = 0, clipY0 = 0, clipX1 = 0, clipY1 = 0;
+    // Clip planes (inside: dot(plane, clip) ≥ 0): near, far, guard band left, right,
+    // top, bottom.
+    std::array<glm::vec4, 6> planes{};
+};
+
+// a(x, y) = c + dx·fx + dy·fy with fx = (x + ½) − x0 and fy = (y + ½) − y0 relative to
+// the snapped position of the triangle's first vertex, all in single precision.
+struct Plane {
+    float c = 0, dx = 0, dy = 0;
+    float at(float fx, float fy) const { return (c + dx * fx) + dy * fy; }
+};
+
+struct SetupTriangle {
+    // Edge i: E(X, Y) = C + A·X + B·Y on fixed-point sample positions; covered ⇔ E ≥ 0
+    // (C carries the −1 of the top-left rule for edges that are not top or left).
+    std::array<int64_t, 3> A{}, B{}, C{};
+    int minX = 0, minY = 0, maxX = -1, maxY = -1;  // inclusive pixel box, ∩ clip rect
+    float x0 = 0, y0 = 0;        // snapped first vertex, pixels
+    double zc = 0, zdx = 0, zdy = 0;  // window z plane, double precision
+    Plane invW;                  // 1/w
+    std::array<Plane, kMaxAttrs> attr{};  // a/w when perspective-correct, else a
+    Rgba8 flatDiffuse, flatSpecular;
+};
+
+// Geometry counters of one batch of triangles.
+struct GeometryCounters {
+    uint64_t submitted = 0, culled = 0, clipped = 0, drawn = 0, invalid = 0;
+    void add(const GeometryCounters& o) {
+        submitted += o.submitted; culled += o.culled; clipped += o.clipped;
+        drawn += o.drawn; invalid += o.invalid;
+    }
+};
+
+struct RasterCounters {
+    uint64_t generated = 0, written = 0, blendOps = 0;
+    void add(const RasterCounters& o) {
+        generated += o.generated; written += o.written; blendOps += o.blendOps;
+    }
+};
+
+// ---- transform_clip.cpp ----------------------------------------------------------------
+DrawContext makeDrawContext(const PipelineState& st, Framebuffer& fb, const tex::TextureUnits& tu,
+                            Path path, VertexSpace space, const Viewport& vp, const Rect& scissor,
+                            int subpixelBits);
+// Transforms one submitted vertex (world·view·projection, or the pre-transformed
+// XYZRHW reading), runs texture-coordinate generation and computes its window position.
+ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewProj,
+                              const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                              const Vertex& v);
+// Primitive assembly: vertex numbers of triangle `i` and its flat-shading (provoking)
+// vertex; the provoking vertex is always element 0 of the returned order.
+uint32_t triangleCount(Primitive p, uint32_t vertexCount);
+std::array<uint32_t, 3> triangleVertices(Primitive p, uint32_t i);
+// Clips one triangle and sets up what reaches rasterization, appending to `out`.
+void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
+                  const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
+                  std::vector<SetupTriangle>& out, GeometryCounters& gc);
+
+// ---- setup_triangle.cpp ----------------------------------------------------------------
+// Snaps, culls and computes edges and planes; false when culled or outside the clip rect.
+bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
+                   const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
+                   SetupTriangle& t);
+
+// ---- raster_reference.cpp / raster_tiles.cpp -------------------------------------------
+void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>& tris,
+                        RasterCounters& rc);
+
+// ---- floor/ceil division for the span solver (exact on int64) --------------------------
+inline int64_t floorDiv(int64_t a, int64_t b) {  // b > 0
+    int64_t q = a / b;
+    return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+}  // namespace rg::raster::detail

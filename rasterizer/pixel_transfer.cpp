@@ -1,0 +1,108 @@
+// Clears and pixel transfers (docs/hardware.md, "Framebuffer and pixel transfer").
+#include <string>
+
+#include "core/error.h"
+#include "device_impl.h"
+#include "rasterizer/device.h"
+#include "rasterizer/fragment_ops.h"
+
+namespace rg::raster {
+
+namespace {
+
+// Rectangle ∩ target; false when empty.
+bool clipRect(const Framebuffer& fb, int& x0, int& y0, int& x1, int& y1) {
+    x0 = std::max(x0, 0);
+    y0 = std::max(y0, 0);
+    x1 = std::min(x1, fb.width());
+    y1 = std::min(y1, fb.height());
+    return x0 < x1 && y0 < y1;
+}
+
+void checkSize(const char* what, int width, int height) {
+    if (width < 0 || height < 0)
+        throw InvalidState(std::string(what) + " size " + std::to_string(width) + "x" +
+                           std::to_string(height) + " is negative");
+}
+
+}  // namespace
+
+// IDirect3DDevice7::Clear: the viewport rectangle, further limited by the scissor when
+// the scissor test is on. Colour is written whole (D3D7 Clear ignores the write mask);
+// depth is quantized like a fragment's.
+void Device::clear(bool color, Rgba8 colorValue, bool depth, float depthValue) {
+    if (depth && !(depthValue >= 0.0f && depthValue <= 1.0f))
+        throw InvalidState("depth clear value " + std::to_string(depthValue) +
+                           " is not inside [0, 1]");
+    Framebuffer& fb = framebuffer();
+    const Viewport& vp = impl_->viewport;
+    int x0 = vp.x, y0 = vp.y, x1 = vp.x + vp.width, y1 = vp.y + vp.height;
+    if (state().scissorTest) {
+        const Rect& s = impl_->scissor;
+        x0 = std::max(x0, s.x);
+        y0 = std::max(y0, s.y);
+        x1 = std::min(x1, s.x + s.width);
+        y1 = std::min(y1, s.y + s.height);
+    }
+    if (!clipRect(fb, x0, y0, x1, y1)) return;
+    const bool hasDepth = depth && fb.depthFormat() != DepthFormat::None;
+    const uint32_t z = hasDepth ? quantizeDepth(depthValue, fb.depthMax()) : 0;
+    for (int y = y0; y < y1; ++y) {
+        const size_t row = size_t(y) * size_t(fb.width());
+        if (color) std::fill(fb.color().begin() + row + x0, fb.color().begin() + row + x1, colorValue);
+        if (hasDepth) std::fill(fb.depth().begin() + row + x0, fb.depth().begin() + row + x1, z);
+    }
+}
+
+// glDrawPixels at window (x, y), rows top to bottom, through the pixel-transfer stage;
+// pixels outside the target are discarded (the raster position is inside it or the
+// draw is clipped, as glDrawPixels clips fragments to the window).
+void Device::drawPixels(int x, int y, int width, int height, std::span<const Rgba8> pixels) {
+    checkSize("drawPixels", width, height);
+    if (pixels.size() != size_t(width) * size_t(height))
+        throw InvalidState("drawPixels: " + std::to_string(pixels.size()) + " pixels for a " +
+                           std::to_string(width) + "x" + std::to_string(height) + " rectangle");
+    Framebuffer& fb = framebuffer();
+    std::vector<Rgba8> row(static_cast<size_t>(width));
+    for (int j = 0; j < height; ++j) {
+        const int wy = y + j;
+        if (wy < 0 || wy >= fb.height()) continue;
+        std::copy(pixels.begin() + size_t(j) * width, pixels.begin() + size_t(j + 1) * width,
+                  row.begin());
+        textureUnits().applyPixelTransfer(row);
+        for (int i = 0; i < width; ++i) {
+            const int wx = x + i;
+            if (wx >= 0 && wx < fb.width()) fb.pixel(wx, wy) = row[size_t(i)];
+        }
+    }
+}
+
+// glCopyPixels: the source is read whole first, so overlapping rectangles copy as if
+// through a temporary buffer (the OpenGL 1.2 definition: read, then draw).
+void Device::copyPixels(int srcX, int srcY, int width, int height, int dstX, int dstY) {
+    checkSize("copyPixels", width, height);
+    const Framebuffer& fb = framebuffer();
+    if (srcX < 0 || srcY < 0 || int64_t(srcX) + width > fb.width() ||
+        int64_t(srcY) + height > fb.height())
+        throw InvalidState("copyPixels source rectangle lies outside the render target");
+    std::vector<Rgba8> src(size_t(width) * size_t(height));
+    for (int j = 0; j < height; ++j)
+        for (int i = 0; i < width; ++i) src[size_t(j) * width + i] = fb.pixel(srcX + i, srcY + j);
+    drawPixels(dstX, dstY, width, height, src);
+}
+
+std::vector<Rgba8> Device::readPixels(int x, int y, int width, int height) {
+    checkSize("readPixels", width, height);
+    const Framebuffer& fb = framebuffer();
+    if (x < 0 || y < 0 || int64_t(x) + width > fb.width() || int64_t(y) + height > fb.height())
+        throw InvalidState("readPixels rectangle (" + std::to_string(x) + ", " +
+                           std::to_string(y) + ") " + std::to_string(width) + "x" +
+                           std::to_string(height) + " lies outside the render target");
+    std::vector<Rgba8> out(size_t(width) * size_t(height));
+    for (int j = 0; j < height; ++j)
+        for (int i = 0; i < width; ++i) out[size_t(j) * width + i] = fb.pixel(x + i, y + j);
+    impl_->counters.bytesReadBack += out.size() * sizeof(Rgba8);
+    return out;
+}
+
+}  // namespace rg::raster

@@ -1,0 +1,238 @@
+// Vertex transform, primitive assembly and homogeneous clipping
+// (docs/hardware.md, "Vertex transform and clipping").
+#include <cmath>
+
+#include <glm/mat3x3.hpp>
+
+#include "pipeline.h"
+
+namespace rg::raster::detail {
+
+namespace {
+
+bool finite(float v) { return std::isfinite(v); }
+
+// Window position of a clip-space position: the D3D7 viewport transform
+// (x right, y down, z in [MinZ, MaxZ]), or the identity for pre-transformed vertices.
+void project(const DrawContext& dc, ProcessedVertex& v) {
+    const glm::vec4& c = v.clip;
+    if (dc.space == VertexSpace::Pretransformed) {
+        v.wx = c.x / c.w;
+        v.wy = c.y / c.w;
+        v.wz = c.z / c.w;
+    } else {
+        float nx = c.x / c.w, ny = c.y / c.w, nz = c.z / c.w;
+        v.wx = float(dc.vp.x) + (nx + 1.0f) * (0.5f * float(dc.vp.width));
+        v.wy = float(dc.vp.y) + (1.0f - ny) * (0.5f * float(dc.vp.height));
+        v.wz = dc.vp.minZ + nz * (dc.vp.maxZ - dc.vp.minZ);
+    }
+    v.invW = 1.0f / c.w;
+}
+
+float planeDistance(const glm::vec4& p, const glm::vec4& c) {
+    return ((p.x * c.x + p.y * c.y) + p.z * c.z) + p.w * c.w;
+}
+
+// The point where edge in→out crosses a plane, always computed from the inside vertex so
+// that the two triangles sharing a clipped edge get the same new vertex.
+ProcessedVertex intersect(const DrawContext& dc, const ProcessedVertex& in, float dIn,
+                          const ProcessedVertex& out, float dOut) {
+    float t = dIn / (dIn - dOut);
+    ProcessedVertex r;
+    r.clip = in.clip + t * (out.clip - in.clip);
+    for (int a = 0; a < dc.numAttrs; ++a) r.attr[a] = in.attr[a] + t * (out.attr[a] - in.attr[a]);
+    project(dc, r);
+    return r;
+}
+
+}  // namespace
+
+DrawContext makeDrawContext(const PipelineState& st, Framebuffer& fb, const tex::TextureUnits& tu,
+                            Path path, VertexSpace space, const Viewport& vp, const Rect& scissor,
+                            int subpixelBits) {
+    DrawContext dc;
+    dc.st = st;
+    dc.fb = &fb;
+    dc.tu = &tu;
+    dc.path = path;
+    dc.space = space;
+    dc.vp = vp;
+    dc.subpixelBits = subpixelBits;
+    dc.passThrough = tu.passThrough();
+    uint32_t sets = dc.passThrough ? 0u : tu.texCoordSetsUsed();
+    for (int s = 0; s < tex::kMaxTexCoordSets; ++s)
+        if (sets & (1u << s)) dc.texSets[dc.numTexSets++] = s;
+    dc.numAttrs = kColorAttrs + 4 * dc.numTexSets;
+    dc.gouraud = st.shade == ShadeMode::Gouraud;
+    dc.perspectiveColor = st.perspectiveColor != 0;
+    dc.needSpecular = st.specularEnable != 0 || !dc.passThrough;
+    dc.depthOn = st.depthTest != 0 && fb.depthFormat() != DepthFormat::None;
+    dc.depthMax = fb.depthMax();
+
+    dc.clipX0 = std::max(0, vp.x);
+    dc.clipY0 = std::max(0, vp.y);
+    dc.clipX1 = std::min(fb.width(), vp.x + vp.width);
+    dc.clipY1 = std::min(fb.height(), vp.y + vp.height);
+    if (st.scissorTest) {
+        dc.clipX0 = std::max(dc.clipX0, scissor.x);
+        dc.clipY0 = std::max(dc.clipY0, scissor.y);
+        dc.clipX1 = std::min(dc.clipX1, scissor.x + scissor.width);
+        dc.clipY1 = std::min(dc.clipY1, scissor.y + scissor.height);
+    }
+
+    const float G = float(kGuardBandPixels);
+    dc.planes[0] = {0, 0, 1, 0};   // near: z ≥ 0 (Direct3D clip volume 0 ≤ z ≤ w)
+    dc.planes[1] = {0, 0, -1, 1};  // far: z ≤ w
+    if (space == VertexSpace::Pretransformed) {
+        dc.planes[2] = {1, 0, 0, G};
+        dc.planes[3] = {-1, 0, 0, G};
+        dc.planes[4] = {0, 1, 0, G};
+        dc.planes[5] = {0, -1, 0, G};
+    } else {
+        // window x = vx + (x/w + 1)·vw/2 ≥ −G  ⇔  x − kL·w ≥ 0, and so on.
+        float kL = 2.0f * (-G - float(vp.x)) / float(vp.width) - 1.0f;
+        float kR = 2.0f * (G - float(vp.x)) / float(vp.width) - 1.0f;
+        float kT = 1.0f - 2.0f * (-G - float(vp.y)) / float(vp.height);
+        float kB = 1.0f - 2.0f * (G - float(vp.y)) / float(vp.height);
+        dc.planes[2] = {1, 0, 0, -kL};
+        dc.planes[3] = {-1, 0, 0, kR};
+        dc.planes[4] = {0, -1, 0, kT};
+        dc.planes[5] = {0, 1, 0, -kB};
+    }
+    return dc;
+}
+
+ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewProj,
+                              const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                              const Vertex& v) {
+    ProcessedVertex p;
+    const glm::vec4& in = v.position;
+    tex::VertexEye eye;
+    if (dc.space == VertexSpace::Pretransformed) {
+        // XYZRHW: window x, y, z and RHW = 1/w. Held as the homogeneous point
+        // (x·w, y·w, z·w, w) so that clipping is the same code for both spaces.
+        p.valid = finite(in.x) && finite(in.y) && finite(in.z) && finite(in.w) && in.w != 0.0f;
+        float w = 1.0f / in.w;
+        p.valid = p.valid && finite(w);
+        p.clip = glm::vec4(in.x * w, in.y * w, in.z * w, w);
+        p.wx = in.x;
+        p.wy = in.y;
+        p.wz = in.z;
+        p.invW = in.w;
+        eye = {in, in, v.normal, v.normal};
+    } else {
+        glm::vec4 obj(in.x, in.y, in.z, 1.0f);
+        p.valid = finite(in.x) && finite(in.y) && finite(in.z);
+        p.clip = worldViewProj * obj;
+        p.valid = p.valid && finite(p.clip.x) && finite(p.clip.y) && finite(p.clip.z) &&
+                  finite(p.clip.w);
+        if (p.valid) project(dc, p);
+        if (dc.numTexSets > 0) {
+            glm::vec3 n = normalMatrix * v.normal;
+            float len = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+            eye = {obj, worldView * obj, len > 0.0f ? n / len : n, v.normal};
+        }
+    }
+    const Rgba8 d = v.diffuse, s = v.specular;
+    p.attr[0] = d.r; p.attr[1] = d.g; p.attr[2] = d.b; p.attr[3] = d.a;
+    p.attr[4] = s.r; p.attr[5] = s.g; p.attr[6] = s.b; p.attr[7] = s.a;
+    for (int k = 0; k < dc.numTexSets; ++k) {
+        int set = dc.texSets[k];
+        glm::vec4 tc = dc.tu->processVertexTexCoord(set, eye, v.tex[set]);
+        for (int c = 0; c < 4; ++c) p.attr[kColorAttrs + 4 * k + c] = tc[c];
+    }
+    return p;
+}
+
+uint32_t triangleCount(Primitive p, uint32_t n) {
+    switch (p) {
+        case Primitive::TriangleList: return n / 3;
+        case Primitive::TriangleStrip:
+        case Primitive::TriangleFan: return n >= 3 ? n - 2 : 0;
+    }
+    return 0;
+}
+
+// Strips: triangle i is (i, i+1, i+2), odd ones as (i, i+2, i+1) to keep the winding;
+// the provoking vertex is the first (D3D7 flat shading). Fans: (i+1, i+2, 0), a rotation
+// of (0, i+1, i+2) with the same winding, so that the provoking vertex is i+1, the
+// Direct3D rule for flat-shaded fans.
+std::array<uint32_t, 3> triangleVertices(Primitive p, uint32_t i) {
+    switch (p) {
+        case Primitive::TriangleList: return {3 * i, 3 * i + 1, 3 * i + 2};
+        case Primitive::TriangleStrip:
+            return (i & 1u) ? std::array<uint32_t, 3>{i, i + 2, i + 1}
+                            : std::array<uint32_t, 3>{i, i + 1, i + 2};
+        case Primitive::TriangleFan: return {i + 1, i + 2, 0};
+    }
+    return {0, 0, 0};
+}
+
+void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
+                  const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
+                  std::vector<SetupTriangle>& out, GeometryCounters& gc) {
+    ++gc.submitted;
+    if (!v0.valid || !v1.valid || !v2.valid) {
+        ++gc.invalid;
+        return;
+    }
+    // Outcodes: bit p set when the vertex is outside plane p.
+    const ProcessedVertex* v[3] = {&v0, &v1, &v2};
+    float d[3][6];
+    unsigned code[3] = {0, 0, 0};
+    for (int i = 0; i < 3; ++i)
+        for (int p = 0; p < 6; ++p) {
+            d[i][p] = planeDistance(dc.planes[p], v[i]->clip);
+            if (!(d[i][p] >= 0.0f)) code[i] |= 1u << p;
+        }
+    if (code[0] & code[1] & code[2]) {  // all outside one plane: trivially rejected
+        ++gc.culled;
+        return;
+    }
+    SetupTriangle t;
+    if ((code[0] | code[1] | code[2]) == 0) {
+        if (setupTriangle(dc, v0, v1, v2, flatDiffuse, flatSpecular, t)) {
+            out.push_back(t);
+            ++gc.drawn;
+        } else {
+            ++gc.culled;
+        }
+        return;
+    }
+
+    // Sutherland–Hodgman against each plane some vertex is outside of.
+    ++gc.clipped;
+    std::array<ProcessedVertex, 9> bufA, bufB;
+    std::array<float, 9> dist;
+    int n = 3;
+    bufA[0] = v0; bufA[1] = v1; bufA[2] = v2;
+    ProcessedVertex* cur = bufA.data();
+    ProcessedVertex* nxt = bufB.data();
+    unsigned planesToClip = code[0] | code[1] | code[2];
+    for (int p = 0; p < 6 && n >= 3; ++p) {
+        if (!(planesToClip & (1u << p))) continue;
+        for (int i = 0; i < n; ++i) dist[i] = planeDistance(dc.planes[p], cur[i].clip);
+        int m = 0;
+        for (int i = 0; i < n; ++i) {
+            int j = (i + 1) % n;
+            bool inI = dist[i] >= 0.0f, inJ = dist[j] >= 0.0f;
+            if (inI) nxt[m++] = cur[i];
+            if (inI && !inJ) nxt[m++] = intersect(dc, cur[i], dist[i], cur[j], dist[j]);
+            if (!inI && inJ) nxt[m++] = intersect(dc, cur[j], dist[j], cur[i], dist[i]);
+        }
+        n = m;
+        std::swap(cur, nxt);
+    }
+    bool any = false;
+    for (int k = 1; k + 1 < n; ++k)
+        if (setupTriangle(dc, cur[0], cur[k], cur[k + 1], flatDiffuse, flatSpecular, t)) {
+            out.push_back(t);
+            any = true;
+        }
+    if (any)
+        ++gc.drawn;
+    else
+        ++gc.culled;
+}
+
+}  // namespace rg::raster::detail
