@@ -1,0 +1,293 @@
+// The Embree scene: one triangle geometry per object (geomID = object index), vertices
+// transformed to world space once at build time. Robust mode (RTC_SCENE_FLAG_ROBUST) makes
+// the triangle test watertight, so a ray through a shared edge or vertex hits at least one
+// of the triangles around it — the all-intersections query then sees all of them through a
+// context filter function and merges them.
+#include "raycore/accel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+
+#include "core/error.h"
+
+namespace rg::ray {
+
+namespace {
+
+void embreeError(void*, RTCError code, const char* message) {
+    // Embree calls this from inside C code: never throw here; the build checks
+    // rtcGetDeviceError afterwards and raises rg::Error.
+    std::fprintf(stderr, "embree error %d: %s\n", int(code), message ? message : "");
+}
+
+void setRay(RTCRayHit& rh, const Ray& r) {
+    rh.ray.org_x = r.origin.x;
+    rh.ray.org_y = r.origin.y;
+    rh.ray.org_z = r.origin.z;
+    rh.ray.dir_x = r.dir.x;
+    rh.ray.dir_y = r.dir.y;
+    rh.ray.dir_z = r.dir.z;
+    rh.ray.tnear = r.tnear;
+    rh.ray.tfar = r.tfar;
+    rh.ray.time = 0.0f;
+    rh.ray.mask = ~0u;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+// Embree's Ng is cross(v0 − v1, v2 − v0), which points to the side where the vertices run
+// clockwise; our meshes wind counter-clockwise seen from outside, so we negate it.
+inline glm::vec3 outwardNg(float x, float y, float z) { return {-x, -y, -z}; }
+
+struct CollectContext {
+    RTCIntersectContext context;  // first member: Embree passes a pointer to it
+    std::vector<Hit>* hits;
+};
+
+void collectFilter(const RTCFilterFunctionNArguments* args) {
+    auto* c = reinterpret_cast<const CollectContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        Hit h;
+        h.t = RTCRayN_tfar(args->ray, args->N, i);
+        h.u = RTCHitN_u(args->hit, args->N, i);
+        h.v = RTCHitN_v(args->hit, args->N, i);
+        h.object = RTCHitN_geomID(args->hit, args->N, i);
+        h.triangle = RTCHitN_primID(args->hit, args->N, i);
+        h.ng = outwardNg(RTCHitN_Ng_x(args->hit, args->N, i), RTCHitN_Ng_y(args->hit, args->N, i),
+                         RTCHitN_Ng_z(args->hit, args->N, i));
+        c->hits->push_back(h);
+        args->valid[i] = 0;  // reject, so traversal goes on to every other hit
+    }
+}
+
+}  // namespace
+
+RTCDevice embreeDevice() {
+    static std::once_flag once;
+    static RTCDevice device = nullptr;
+    std::call_once(once, [] {
+        device = rtcNewDevice(nullptr);
+        if (!device) throw Error("embree: cannot create a device");
+        rtcSetDeviceErrorFunction(device, embreeError, nullptr);
+    });
+    return device;
+}
+
+Accel::Accel(const Scene& scene) : scene_(scene) {
+    validateScene(scene);
+    RTCDevice device = embreeDevice();
+    rtcScene_ = rtcNewScene(device);
+    rtcSetSceneFlags(rtcScene_, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);
+    meshes_.resize(scene.objects.size());
+    Bounds all;
+    for (uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
+        const Object& o = scene.objects[oi];
+        Mesh m = scene.meshes[o.mesh];
+        completeMesh(m);
+        transformMesh(m, o.transform);
+        Bounds b = computeBounds(m);
+        all.lo = glm::min(all.lo, b.lo);
+        all.hi = glm::max(all.hi, b.hi);
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.positions.size()));
+        auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), m.triangleCount()));
+        if (!vb || !ib) throw Error("embree: cannot allocate buffers for object '" + o.name + "'");
+        for (size_t i = 0; i < m.positions.size(); ++i) {
+            vb[3 * i] = m.positions[i].x;
+            vb[3 * i + 1] = m.positions[i].y;
+            vb[3 * i + 2] = m.positions[i].z;
+        }
+        std::copy(m.indices.begin(), m.indices.end(), ib);
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(rtcScene_, g, oi);
+        rtcReleaseGeometry(g);
+        WorldMesh& w = meshes_[oi];
+        w.normals = std::move(m.normals);
+        w.uvs = std::move(m.uvs);
+        w.indices = std::move(m.indices);
+        w.triPart.resize(w.indices.size() / 3);
+        for (uint32_t t = 0; t < w.triPart.size(); ++t) w.triPart[t] = m.partOfTriangle(t);
+        w.material = &scene.materials[o.material];
+    }
+    rtcCommitScene(rtcScene_);
+    if (RTCError e = rtcGetDeviceError(device); e != RTC_ERROR_NONE)
+        throw Error("embree: building the scene failed (error " + std::to_string(int(e)) + ")");
+    float extent = glm::length(all.hi - all.lo);
+    epsilon_ = 1e-5f * std::max(extent, 1.0f);
+}
+
+Accel::~Accel() {
+    if (rtcScene_) rtcReleaseScene(rtcScene_);
+}
+
+Hit Accel::intersect(const Ray& ray) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    setRay(rh, ray);
+    rtcIntersect1(rtcScene_, &ctx, &rh);
+    Hit h;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+    h.t = rh.ray.tfar;
+    h.u = rh.hit.u;
+    h.v = rh.hit.v;
+    h.object = rh.hit.geomID;
+    h.triangle = rh.hit.primID;
+    h.ng = outwardNg(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    return h;
+}
+
+bool Accel::occluded(const Ray& ray) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay r;
+    r.org_x = ray.origin.x;
+    r.org_y = ray.origin.y;
+    r.org_z = ray.origin.z;
+    r.dir_x = ray.dir.x;
+    r.dir_y = ray.dir.y;
+    r.dir_z = ray.dir.z;
+    r.tnear = ray.tnear;
+    r.tfar = ray.tfar;
+    r.time = 0.0f;
+    r.mask = ~0u;
+    r.id = 0;
+    r.flags = 0;
+    rtcOccluded1(rtcScene_, &ctx, &r);
+    return r.tfar < 0.0f;  // Embree sets tfar to −inf on a hit
+}
+
+namespace {
+
+template <int N, class RayHitN, void (*IntersectN)(const int*, RTCScene, RTCIntersectContext*, RayHitN*)>
+void intersectPacket(RTCScene scene, const Ray* rays, Hit* hits, int count) {
+    alignas(64) RayHitN rh;
+    alignas(64) int valid[N];
+    for (int i = 0; i < N; ++i) {
+        valid[i] = i < count ? -1 : 0;
+        const Ray& r = rays[i < count ? i : 0];
+        rh.ray.org_x[i] = r.origin.x;
+        rh.ray.org_y[i] = r.origin.y;
+        rh.ray.org_z[i] = r.origin.z;
+        rh.ray.dir_x[i] = r.dir.x;
+        rh.ray.dir_y[i] = r.dir.y;
+        rh.ray.dir_z[i] = r.dir.z;
+        rh.ray.tnear[i] = r.tnear;
+        rh.ray.tfar[i] = r.tfar;
+        rh.ray.time[i] = 0.0f;
+        rh.ray.mask[i] = ~0u;
+        rh.ray.id[i] = unsigned(i);
+        rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    IntersectN(valid, scene, &ctx, &rh);
+    for (int i = 0; i < count; ++i) {
+        Hit h;
+        if (rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID) {
+            h.t = rh.ray.tfar[i];
+            h.u = rh.hit.u[i];
+            h.v = rh.hit.v[i];
+            h.object = rh.hit.geomID[i];
+            h.triangle = rh.hit.primID[i];
+            h.ng = outwardNg(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]);
+        }
+        hits[i] = h;
+    }
+}
+
+}  // namespace
+
+void Accel::intersect8(const Ray* rays, Hit* hits, int count) const {
+    intersectPacket<8, RTCRayHit8, rtcIntersect8>(rtcScene_, rays, hits, std::min(count, 8));
+}
+void Accel::intersect16(const Ray* rays, Hit* hits, int count) const {
+    intersectPacket<16, RTCRayHit16, rtcIntersect16>(rtcScene_, rays, hits, std::min(count, 16));
+}
+
+SurfacePoint Accel::surface(const Ray& ray, const Hit& hit) const {
+    SurfacePoint s;
+    if (!hit.valid()) return s;
+    const WorldMesh& w = meshes_[hit.object];
+    const uint32_t* tri = &w.indices[size_t(hit.triangle) * 3];
+    const float b0 = 1.0f - hit.u - hit.v;
+    s.p = ray.origin + hit.t * ray.dir;
+    float lenNg = glm::length(hit.ng);
+    s.ng = lenNg > 0.0f ? hit.ng / lenNg : glm::vec3(0, 1, 0);
+    glm::vec3 ns = b0 * w.normals[tri[0]] + hit.u * w.normals[tri[1]] + hit.v * w.normals[tri[2]];
+    float lenNs = glm::length(ns);
+    s.ns = lenNs > 0.0f ? ns / lenNs : s.ng;
+    // Interpolated normals of a badly wound or inconsistent mesh may face the other way;
+    // shading then follows the geometry.
+    if (glm::dot(s.ns, s.ng) < 0.0f) s.ns = -s.ns;
+    s.uv = b0 * w.uvs[tri[0]] + hit.u * w.uvs[tri[1]] + hit.v * w.uvs[tri[2]];
+    s.frontFace = glm::dot(ray.dir, s.ng) < 0.0f;
+    s.object = hit.object;
+    s.triangle = hit.triangle;
+    s.part = w.triPart[hit.triangle];
+    s.material = w.material;
+    return s;
+}
+
+glm::vec3 Accel::offsetOrigin(const SurfacePoint& s, glm::vec3 dir) const {
+    float e = epsilon_ * (1.0f + std::max({std::abs(s.p.x), std::abs(s.p.y), std::abs(s.p.z)}));
+    return s.p + (glm::dot(dir, s.ng) >= 0.0f ? e : -e) * s.ng;
+}
+
+std::vector<Hit> Accel::allTriangleHits(const Ray& ray) const {
+    std::vector<Hit> hits;
+    CollectContext c;
+    rtcInitIntersectContext(&c.context);
+    c.context.filter = collectFilter;
+    c.hits = &hits;
+    RTCRayHit rh;
+    setRay(rh, ray);
+    rtcIntersect1(rtcScene_, &c.context, &rh);
+    // Order by (t, object, triangle) — a total order, so the result does not depend on the
+    // traversal order; then drop repeated reports of one triangle.
+    std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
+        if (a.t != b.t) return a.t < b.t;
+        if (a.object != b.object) return a.object < b.object;
+        return a.triangle < b.triangle;
+    });
+    std::vector<Hit> unique;
+    for (const Hit& h : hits) {
+        bool seen = false;
+        for (const Hit& u : unique)
+            if (u.object == h.object && u.triangle == h.triangle) seen = true;
+        if (!seen) unique.push_back(h);
+    }
+    return unique;
+}
+
+std::vector<Hit> Accel::allIntersections(const Ray& ray, bool frontFacingOnly) const {
+    std::vector<Hit> tri = allTriangleHits(ray);
+    std::vector<Hit> out;
+    for (const Hit& h : tri) {
+        bool front = glm::dot(ray.dir, h.ng) < 0.0f;
+        if (frontFacingOnly && !front) continue;
+        // A hit on a shared edge or vertex: the same surface of the same object at (nearly)
+        // the same distance, facing the same way. Keep the first (smallest t, object,
+        // triangle), so the choice is deterministic.
+        bool duplicate = false;
+        for (auto it = out.rbegin(); it != out.rend(); ++it) {
+            if (h.t - it->t > 1e-5f * std::max(1.0f, h.t)) break;
+            if (it->object == h.object && (glm::dot(ray.dir, it->ng) < 0.0f) == front)
+                duplicate = true;
+        }
+        if (!duplicate) out.push_back(h);
+    }
+    return out;
+}
+
+}  // namespace rg::ray

@@ -1,0 +1,89 @@
+// The Embree 3 acceleration structure of a Scene: one triangle geometry per object, in
+// world space, built in robust mode so rays aimed exactly at shared edges and vertices
+// never slip through (the all-intersections query relies on it).
+#pragma once
+
+#include <embree3/rtcore.h>
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+#include "raycore/camera.h"
+#include "raycore/scene.h"
+
+namespace rg::ray {
+
+constexpr uint32_t kNoHit = ~0u;
+
+// What Embree reports, before shading.
+struct Hit {
+    float t = 0.0f;
+    float u = 0.0f, v = 0.0f;        // barycentrics: p = (1−u−v)·p0 + u·p1 + v·p2
+    uint32_t object = kNoHit;        // Scene::objects index (Embree geomID)
+    uint32_t triangle = kNoHit;      // triangle of the object's mesh (Embree primID)
+    glm::vec3 ng{0.0f};              // geometric normal, not normalized
+    bool valid() const { return object != kNoHit; }
+};
+
+// A hit resolved to surface quantities.
+struct SurfacePoint {
+    glm::vec3 p{0.0f};
+    glm::vec3 ng{0.0f};        // unit geometric normal, as the mesh winds it
+    glm::vec3 ns{0.0f};        // unit interpolated shading normal, same side as ng
+    glm::vec2 uv{0.0f};
+    bool frontFace = true;     // the ray arrived against ng (from outside)
+    uint32_t object = kNoHit, part = 0, triangle = kNoHit;
+    const Material* material = nullptr;
+};
+
+class Accel {
+  public:
+    explicit Accel(const Scene& scene);
+    ~Accel();
+    Accel(const Accel&) = delete;
+    Accel& operator=(const Accel&) = delete;
+
+    const Scene& scene() const { return scene_; }
+    RTCScene embreeScene() const { return rtcScene_; }
+    // A scale for self-intersection offsets: 1e-4 of the scene's bounding extent (well
+    // above float error at the hit, well below any feature of the built-in scenes).
+    float epsilon() const { return epsilon_; }
+
+    Hit intersect(const Ray& ray) const;
+    bool occluded(const Ray& ray) const;
+    // Packets of 8 or 16 (Embree's SIMD ray layouts), for coherent primary rays.
+    void intersect8(const Ray* rays, Hit* hits, int count) const;
+    void intersect16(const Ray* rays, Hit* hits, int count) const;
+
+    SurfacePoint surface(const Ray& ray, const Hit& hit) const;
+
+    // Every intersection along the ray in [tnear, tfar], nearest first, duplicates removed:
+    // a ray through a shared edge or vertex meets every triangle around it at the same t
+    // and is reported once per surface there (hits within 1e-5·t of each other on the same
+    // object are one). frontFacingOnly keeps hits arriving against ng.
+    std::vector<Hit> allIntersections(const Ray& ray, bool frontFacingOnly) const;
+    // The same before duplicate removal (every triangle the filter saw), for tests.
+    std::vector<Hit> allTriangleHits(const Ray& ray) const;
+
+    // Offsets a ray origin off the surface on the side `dir` goes to.
+    glm::vec3 offsetOrigin(const SurfacePoint& s, glm::vec3 dir) const;
+
+  private:
+    struct WorldMesh {
+        std::vector<glm::vec3> normals;
+        std::vector<glm::vec2> uvs;
+        std::vector<uint32_t> indices;
+        std::vector<uint32_t> triPart;
+        const Material* material = nullptr;
+    };
+    const Scene& scene_;
+    RTCScene rtcScene_ = nullptr;
+    std::vector<WorldMesh> meshes_;
+    float epsilon_ = 1e-4f;
+};
+
+// The process-wide Embree device (created on first use, error callback raising rg::Error).
+RTCDevice embreeDevice();
+
+}  // namespace rg::ray

@@ -1,0 +1,31 @@
+// What every tracer shares: image size, supersampling, depth, threads, and the parallel
+// pixel loop that makes the image bytes independent of the thread count.
+#pragma once
+
+#include <functional>
+
+#include "raycore/camera.h"
+#include "raycore/counters.h"
+
+namespace rg {
+class Progress;
+}
+
+namespace rg::ray {
+
+struct RenderOptions {
+    int width = 320, height = 240;
+    int spp = 1;          // n: an n×n grid of samples per pixel (camera.h, samplePosition)
+    int maxDepth = 8;     // interfaces a path may cross after the primary hit
+    int threads = 0;      // 0: all (TBB's default); 1 runs on the calling thread only
+    RenderCounters* counters = nullptr;  // optional
+    Progress* progress = nullptr;        // optional: advanced by one per row
+};
+
+// Runs rowFn(y, counts) for every row y in parallel (TBB, `threads` workers). Rows are
+// independent and each pixel's value depends only on (pixel, sample): any schedule gives
+// the same bytes. Adds the counts and the wall time to options.counters.
+void parallelRows(const RenderOptions& options,
+                  const std::function<void(int y, RayCounts& counts)>& rowFn);
+
+}  // namespace rg::ray

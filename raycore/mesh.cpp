@@ -1,0 +1,154 @@
+// Mesh bookkeeping: validation, completion, the closed-manifold test, bounds, transforms.
+#include "raycore/mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <tuple>
+
+#include "core/error.h"
+
+namespace rg::ray {
+
+uint32_t Mesh::partOfTriangle(uint32_t tri) const {
+    // Parts are sorted by firstTriangle (they are appended in order); binary search.
+    if (parts.empty()) return 0;
+    auto it = std::upper_bound(parts.begin(), parts.end(), tri,
+                               [](uint32_t t, const MeshPart& p) { return t < p.firstTriangle; });
+    return it == parts.begin() ? 0 : uint32_t(it - parts.begin() - 1);
+}
+
+int Mesh::findPart(const std::string& partName) const {
+    for (size_t i = 0; i < parts.size(); ++i)
+        if (parts[i].name == partName) return int(i);
+    return -1;
+}
+
+void validateMesh(const Mesh& mesh, const std::string& what) {
+    if (mesh.positions.empty() || mesh.indices.empty())
+        throw Error(what + ": mesh has no triangles");
+    if (mesh.indices.size() % 3 != 0)
+        throw Error(what + ": index count " + std::to_string(mesh.indices.size()) +
+                    " is not a multiple of 3");
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        const glm::vec3& p = mesh.positions[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw Error(what + ": vertex " + std::to_string(i) +
+                        " has a non-finite (NaN or infinite) position");
+    }
+    for (size_t i = 0; i < mesh.indices.size(); ++i)
+        if (mesh.indices[i] >= mesh.positions.size())
+            throw Error(what + ": triangle " + std::to_string(i / 3) + " uses vertex " +
+                        std::to_string(mesh.indices[i]) + " but the mesh has only " +
+                        std::to_string(mesh.positions.size()));
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+        throw Error(what + ": " + std::to_string(mesh.normals.size()) + " normals for " +
+                    std::to_string(mesh.positions.size()) + " positions");
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+        throw Error(what + ": " + std::to_string(mesh.uvs.size()) + " uvs for " +
+                    std::to_string(mesh.positions.size()) + " positions");
+    uint32_t next = 0;
+    for (const MeshPart& p : mesh.parts) {
+        if (p.firstTriangle != next)
+            throw Error(what + ": part '" + p.name + "' does not follow the previous part");
+        next += p.triangleCount;
+    }
+    if (!mesh.parts.empty() && next != mesh.triangleCount())
+        throw Error(what + ": parts cover " + std::to_string(next) + " of " +
+                    std::to_string(mesh.triangleCount()) + " triangles");
+}
+
+void completeMesh(Mesh& mesh) {
+    if (mesh.uvs.size() != mesh.positions.size()) mesh.uvs.assign(mesh.positions.size(), {0, 0});
+    if (mesh.normals.size() == mesh.positions.size()) return;
+    // Area-weighted: the unnormalized cross product is twice the triangle's area.
+    mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f));
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+        glm::vec3 n = glm::cross(mesh.positions[b] - mesh.positions[a],
+                                 mesh.positions[c] - mesh.positions[a]);
+        mesh.normals[a] += n;
+        mesh.normals[b] += n;
+        mesh.normals[c] += n;
+    }
+    for (glm::vec3& n : mesh.normals) {
+        float len = glm::length(n);
+        n = len > 0.0f ? n / len : glm::vec3(0, 1, 0);
+    }
+}
+
+bool isClosedManifold(const Mesh& mesh) {
+    // Weld by exact position bits: generators emit seams with identical coordinates.
+    auto key = [](const glm::vec3& p) {
+        uint32_t k[3];
+        std::memcpy(k, &p, sizeof k);
+        return std::make_tuple(k[0], k[1], k[2]);
+    };
+    std::map<std::tuple<uint32_t, uint32_t, uint32_t>, uint32_t> weld;
+    std::vector<uint32_t> id(mesh.positions.size());
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+        id[i] = weld.emplace(key(mesh.positions[i]), uint32_t(weld.size())).first->second;
+    // Each directed edge must appear once and its reverse once.
+    std::map<std::pair<uint32_t, uint32_t>, int> directed;
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        uint32_t v[3] = {id[mesh.indices[t]], id[mesh.indices[t + 1]], id[mesh.indices[t + 2]]};
+        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;  // degenerate sliver
+        for (int e = 0; e < 3; ++e) ++directed[{v[e], v[(e + 1) % 3]}];
+    }
+    if (directed.empty()) return false;
+    for (const auto& [e, n] : directed) {
+        if (n != 1) return false;
+        auto it = directed.find({e.second, e.first});
+        if (it == directed.end() || it->second != 1) return false;
+    }
+    return true;
+}
+
+void appendMesh(Mesh& mesh, const Mesh& otherIn, const std::string& partName) {
+    Mesh other = otherIn;
+    completeMesh(other);
+    completeMesh(mesh);
+    uint32_t base = uint32_t(mesh.positions.size());
+    uint32_t firstTri = uint32_t(mesh.triangleCount());
+    if (mesh.parts.empty() && firstTri > 0)
+        mesh.parts.push_back({mesh.name.empty() ? "part0" : mesh.name, 0, firstTri});
+    mesh.positions.insert(mesh.positions.end(), other.positions.begin(), other.positions.end());
+    mesh.normals.insert(mesh.normals.end(), other.normals.begin(), other.normals.end());
+    mesh.uvs.insert(mesh.uvs.end(), other.uvs.begin(), other.uvs.end());
+    for (uint32_t i : other.indices) mesh.indices.push_back(i + base);
+    if (other.parts.empty()) {
+        mesh.parts.push_back({partName.empty() ? other.name : partName, firstTri,
+                              uint32_t(other.triangleCount())});
+    } else {
+        for (MeshPart p : other.parts) {
+            p.firstTriangle += firstTri;
+            mesh.parts.push_back(p);
+        }
+    }
+}
+
+Bounds computeBounds(const Mesh& mesh) {
+    Bounds b;
+    for (const glm::vec3& p : mesh.positions) {
+        b.lo = glm::min(b.lo, p);
+        b.hi = glm::max(b.hi, p);
+    }
+    return b;
+}
+
+void transformMesh(Mesh& mesh, const glm::mat4& m) {
+    glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(m)));
+    for (glm::vec3& p : mesh.positions) p = glm::vec3(m * glm::vec4(p, 1.0f));
+    for (glm::vec3& n : mesh.normals) {
+        glm::vec3 t = nm * n;
+        float len = glm::length(t);
+        n = len > 0.0f ? t / len : n;
+    }
+    // A mirroring transform flips the winding; keep counter-clockwise from outside.
+    if (glm::determinant(glm::mat3(m)) < 0.0f)
+        for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+            std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+}
+
+}  // namespace rg::ray

@@ -1,0 +1,79 @@
+// Mesh files through assimp. assimp is lenient (it happily returns an empty scene for a
+// truncated file), so the result is validated here and every failure names the file.
+#include "raycore/mesh_io.h"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <assimp/Importer.hpp>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace rg::ray {
+
+Mesh loadMesh(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw Error(file + ": mesh file not found");
+    if (std::filesystem::file_size(path, ec) == 0) throw Error(file + ": mesh file is empty");
+    Assimp::Importer importer;
+    // No JoinIdenticalVertices: keep the file's vertices so seams and parts survive;
+    // GenSmoothNormals only where the file has no normals.
+    const aiScene* s = importer.ReadFile(
+        file, aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_SortByPType);
+    if (!s || (s->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || s->mNumMeshes == 0)
+        throw Error(file + ": cannot read mesh (" +
+                    (s ? std::string("no meshes in the file") : std::string(importer.GetErrorString())) +
+                    ")");
+    Mesh out;
+    out.name = path.stem().string();
+    out.source = {"file", file, {}};
+    for (unsigned mi = 0; mi < s->mNumMeshes; ++mi) {
+        const aiMesh* am = s->mMeshes[mi];
+        if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;  // points, lines
+        Mesh part;
+        part.name = am->mName.length ? am->mName.C_Str() : "mesh" + std::to_string(mi);
+        for (unsigned v = 0; v < am->mNumVertices; ++v) {
+            const aiVector3D& p = am->mVertices[v];
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+                throw Error(file + ": vertex " + std::to_string(v) + " of mesh '" + part.name +
+                            "' has a non-finite (NaN or infinite) position");
+            part.positions.push_back({p.x, p.y, p.z});
+            if (am->mNormals) {
+                glm::vec3 n(am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z);
+                float len = glm::length(n);
+                part.normals.push_back(std::isfinite(len) && len > 0.0f ? n / len
+                                                                        : glm::vec3(0, 1, 0));
+            }
+            if (am->mTextureCoords[0])
+                part.uvs.push_back({am->mTextureCoords[0][v].x, am->mTextureCoords[0][v].y});
+        }
+        for (unsigned f = 0; f < am->mNumFaces; ++f) {
+            const aiFace& face = am->mFaces[f];
+            if (face.mNumIndices != 3) continue;
+            for (int k = 0; k < 3; ++k) {
+                if (face.mIndices[k] >= am->mNumVertices)
+                    throw Error(file + ": face " + std::to_string(f) + " of mesh '" + part.name +
+                                "' uses a vertex that does not exist");
+                part.indices.push_back(face.mIndices[k]);
+            }
+        }
+        if (part.indices.empty()) continue;
+        completeMesh(part);
+        if (out.positions.empty() && s->mNumMeshes == 1) {
+            MeshSource src = out.source;
+            std::string nm = out.name;
+            out = std::move(part);
+            out.name = nm;
+            out.source = src;
+        } else {
+            appendMesh(out, part, part.name);
+        }
+    }
+    if (out.indices.empty()) throw Error(file + ": the file has no triangles");
+    validateMesh(out, file);
+    return out;
+}
+
+}  // namespace rg::ray

@@ -1,0 +1,81 @@
+// Scene bookkeeping and validation.
+#include "raycore/scene.h"
+
+#include "core/error.h"
+
+namespace rg::ray {
+
+namespace {
+template <class V>
+int findByName(const V& v, const std::string& name) {
+    for (size_t i = 0; i < v.size(); ++i)
+        if (v[i].name == name) return int(i);
+    return -1;
+}
+}  // namespace
+
+int Scene::findObject(const std::string& n) const { return findByName(objects, n); }
+int Scene::findMaterial(const std::string& n) const { return findByName(materials, n); }
+int Scene::findTexture(const std::string& n) const { return findByName(textures, n); }
+int Scene::findCamera(const std::string& n) const { return findByName(cameras, n); }
+int Scene::findViewpointPath(const std::string& n) const { return findByName(viewpointPaths, n); }
+
+uint32_t Scene::addMesh(Mesh m) {
+    completeMesh(m);
+    meshes.push_back(std::move(m));
+    return uint32_t(meshes.size() - 1);
+}
+uint32_t Scene::addMaterial(Material m) {
+    materials.push_back(std::move(m));
+    return uint32_t(materials.size() - 1);
+}
+uint32_t Scene::addTexture(Texture t) {
+    textures.push_back(std::move(t));
+    return uint32_t(textures.size() - 1);
+}
+uint32_t Scene::addObject(std::string n, uint32_t mesh, uint32_t material, const glm::mat4& xf) {
+    objects.push_back({std::move(n), mesh, material, xf});
+    return uint32_t(objects.size() - 1);
+}
+
+Mesh Scene::worldMesh(uint32_t object) const {
+    const Object& o = objects.at(object);
+    Mesh m = meshes.at(o.mesh);
+    transformMesh(m, o.transform);
+    m.name = o.name;
+    return m;
+}
+
+std::vector<std::string> validateScene(const Scene& scene) {
+    std::vector<std::string> warnings;
+    const std::string where = scene.sourceFile.empty() ? "scene '" + scene.name + "'"
+                                                       : scene.sourceFile.string();
+    if (scene.objects.empty()) throw Error(where + ": the scene has no objects");
+    for (size_t i = 0; i < scene.materials.size(); ++i) {
+        const Material& m = scene.materials[i];
+        if (m.diffuseTexture >= int(scene.textures.size()))
+            throw Error(where + ": material '" + m.name + "' refers to texture " +
+                        std::to_string(m.diffuseTexture) + ", which does not exist");
+        if (m.type == MaterialType::Glass && !(m.ior > 0.0f))
+            throw Error(where + ": glass material '" + m.name + "' needs ior > 0");
+    }
+    std::vector<int> glassChecked(scene.meshes.size(), -1);
+    for (const Object& o : scene.objects) {
+        if (o.mesh >= scene.meshes.size())
+            throw Error(where + ": object '" + o.name + "' refers to a mesh that does not exist");
+        if (o.material >= scene.materials.size())
+            throw Error(where + ": object '" + o.name + "' refers to a material that does not exist");
+        validateMesh(scene.meshes[o.mesh], where + ": object '" + o.name + "'");
+        if (scene.materials[o.material].type == MaterialType::Glass) {
+            int& c = glassChecked[o.mesh];
+            if (c < 0) c = isClosedManifold(scene.meshes[o.mesh]) ? 1 : 0;
+            if (c == 0)
+                warnings.push_back(where + ": object '" + o.name +
+                                   "' is glass but its mesh is not closed; refraction through "
+                                   "it has no well-defined inside (rendered anyway)");
+        }
+    }
+    return warnings;
+}
+
+}  // namespace rg::ray

@@ -1,0 +1,195 @@
+// 000 §3: the greedy two-term ray-path model, and §4.3's confidence.
+#include "raycore/tracer_two_term.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "raycore/fresnel.h"
+#include "raycore/tracer_whitted.h"
+
+namespace rg::ray {
+
+namespace {
+
+// Continues a path from surface point `s` of the lens object in direction `dir`: at every
+// further interface of the same object, the child with the larger Fresnel coefficient.
+void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEvent first,
+                glm::vec3 F, int maxDepth, RayCounts& counts, RayPath& path) {
+    path.valid = true;
+    path.F = F;
+    path.G = glm::vec3(1.0f);
+    path.events.push_back(first);
+    path.vertices.push_back(s.p);
+    Ray ray;
+    ray.dir = dir;
+    ray.origin = accel.offsetOrigin(s, dir);
+    RayKind kind = first == PathEvent::Reflect ? RayKind::Reflection : RayKind::Refraction;
+    int depth = 1;
+    for (;;) {
+        counts.add(kind);
+        Hit hit = accel.intersect(ray);
+        if (!hit.valid() || hit.object != s.object) {
+            // Left the local object: R or T is the radiance along this exit ray.
+            path.exitRay = ray;
+            path.exitHit = hit;
+            path.radiance = whittedShade(accel, ray, hit, depth, maxDepth, counts);
+            return;
+        }
+        SurfacePoint p = accel.surface(ray, hit);
+        const Material& m = *p.material;
+        if (!p.frontFace && m.type == MaterialType::Glass)
+            path.G *= transparencyAttenuation(m.transmittance, hit.t);
+        if (depth >= maxDepth || m.type == MaterialType::Diffuse) {
+            // The path ends inside the object (depth budget) or on a part that neither
+            // reflects nor refracts: it contributes nothing.
+            path.valid = false;
+            path.exitRay = ray;
+            path.exitHit = hit;
+            return;
+        }
+        const glm::vec3 n = p.frontFace ? p.ns : -p.ns;
+        const float cosI = std::max(0.0f, -glm::dot(ray.dir, n));
+        glm::vec3 next;
+        if (m.type == MaterialType::Mirror) {
+            path.F *= mirrorReflectance(m, cosI);
+            next = reflectDir(ray.dir, n);
+            path.events.push_back(PathEvent::Reflect);
+            kind = RayKind::Reflection;
+        } else {
+            const float etaI = p.frontFace ? 1.0f : m.ior, etaT = p.frontFace ? m.ior : 1.0f;
+            float FR = FresnelDielectric(cosI, etaI, etaT);
+            glm::vec3 t;
+            bool canRefract = refractDir(ray.dir, n, etaI / etaT, &t);
+            if (!canRefract) FR = 1.0f;
+            // Greedy: the child with the greater coefficient (ties go to reflection).
+            if (FR >= 1.0f - FR) {
+                path.F *= FR;
+                next = reflectDir(ray.dir, n);
+                path.events.push_back(PathEvent::Reflect);
+                kind = RayKind::Reflection;
+            } else {
+                path.F *= 1.0f - FR;
+                next = t;
+                path.events.push_back(PathEvent::Refract);
+                kind = RayKind::Refraction;
+            }
+        }
+        path.vertices.push_back(p.p);
+        ray.dir = next;
+        ray.origin = accel.offsetOrigin(p, next);
+        ++depth;
+    }
+}
+
+}  // namespace
+
+TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, int maxDepth,
+                           RayCounts& counts) {
+    TwoTermSample out;
+    Hit hit = accel.intersect(primary);
+    if (!hit.valid()) {
+        out.direct = accel.scene().environment.lookup(primary.dir);
+        return out;
+    }
+    SurfacePoint s = accel.surface(primary, hit);
+    const Material& m = *s.material;
+    if (m.type == MaterialType::Diffuse || maxDepth <= 0) {
+        out.direct = whittedShade(accel, primary, hit, 0, maxDepth, counts);
+        return out;
+    }
+    out.hitLens = true;
+    out.lensObject = s.object;
+    out.direct = diffuseLighting(accel, s, primary.dir, counts);
+    const glm::vec3 n = s.frontFace ? s.ns : -s.ns;
+    const float cosI = std::max(0.0f, -glm::dot(primary.dir, n));
+    const glm::vec3 r = reflectDir(primary.dir, n);
+    if (m.type == MaterialType::Mirror) {
+        followPath(accel, s, r, PathEvent::Reflect, mirrorReflectance(m, cosI), maxDepth, counts,
+                   out.reflect);
+        return out;
+    }
+    const float etaI = s.frontFace ? 1.0f : m.ior, etaT = s.frontFace ? m.ior : 1.0f;
+    float FR = FresnelDielectric(cosI, etaI, etaT);
+    glm::vec3 t;
+    bool canRefract = refractDir(primary.dir, n, etaI / etaT, &t);
+    if (!canRefract) FR = 1.0f;
+    followPath(accel, s, r, PathEvent::Reflect, glm::vec3(FR), maxDepth, counts, out.reflect);
+    if (canRefract)
+        followPath(accel, s, t, PathEvent::Refract, glm::vec3(1.0f - FR), maxDepth, counts,
+                   out.refract);
+    // A first hit on a back face (camera inside the glass) attenuates both terms alike.
+    if (!s.frontFace) {
+        glm::vec3 g = transparencyAttenuation(m.transmittance, hit.t);
+        out.reflect.G *= g;
+        out.refract.G *= g;
+    }
+    return out;
+}
+
+float pathConfidence(const std::vector<glm::vec3>& dirs, float thetaCDegrees) {
+    if (dirs.size() < 2) return 1.0f;
+    float minCos = 1.0f;
+    for (size_t i = 0; i < dirs.size(); ++i)
+        for (size_t j = i + 1; j < dirs.size(); ++j)
+            minCos = std::min(minCos, glm::dot(dirs[i], dirs[j]));
+    const float thetaM = std::acos(std::clamp(minCos, -1.0f, 1.0f));
+    const float thetaC = thetaCDegrees * std::numbers::pi_v<float> / 180.0f;
+    const float m2 = std::min(thetaM * thetaM, thetaC * thetaC);
+    return 1.0f - m2 / (thetaC * thetaC);
+}
+
+TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const RenderOptions& o) {
+    TwoTermImages im;
+    for (Image* i : {&im.reflectTerm, &im.refractTerm, &im.reflectFG, &im.refractFG,
+                     &im.reflectRadiance, &im.refractRadiance, &im.direct, &im.sum})
+        *i = Image(o.width, o.height, 3);
+    im.reflectConfidence = Image(o.width, o.height, 1, 1.0f);
+    im.refractConfidence = Image(o.width, o.height, 1, 1.0f);
+    const int n = std::max(1, o.spp);
+    const float inv = 1.0f / float(n * n);
+    parallelRows(o, [&](int y, RayCounts& counts) {
+        std::vector<glm::vec3> dirsR, dirsT;
+        for (int x = 0; x < o.width; ++x) {
+            glm::vec3 termR(0.0f), termT(0.0f), fgR(0.0f), fgT(0.0f), radR(0.0f), radT(0.0f),
+                direct(0.0f);
+            dirsR.clear();
+            dirsT.clear();
+            for (int sy = 0; sy < n; ++sy)
+                for (int sx = 0; sx < n; ++sx) {
+                    glm::vec2 f = samplePosition(x, y, sx, sy, n);
+                    Ray ray = primaryRay(camera, o.width, o.height, f.x, f.y);
+                    counts.add(RayKind::Primary);
+                    TwoTermSample s = traceTwoTerm(accel, ray, o.maxDepth, counts);
+                    direct += s.direct;
+                    if (s.reflect.valid) {
+                        glm::vec3 fg = s.reflect.F * s.reflect.G;
+                        fgR += fg;
+                        radR += s.reflect.radiance;
+                        termR += s.reflect.radiance * fg;
+                        dirsR.push_back(s.reflect.exitRay.dir);
+                    }
+                    if (s.refract.valid) {
+                        glm::vec3 fg = s.refract.F * s.refract.G;
+                        fgT += fg;
+                        radT += s.refract.radiance;
+                        termT += s.refract.radiance * fg;
+                        dirsT.push_back(s.refract.exitRay.dir);
+                    }
+                }
+            im.reflectTerm.setRgb(x, y, termR * inv);
+            im.refractTerm.setRgb(x, y, termT * inv);
+            im.reflectFG.setRgb(x, y, fgR * inv);
+            im.refractFG.setRgb(x, y, fgT * inv);
+            im.reflectRadiance.setRgb(x, y, radR * inv);
+            im.refractRadiance.setRgb(x, y, radT * inv);
+            im.direct.setRgb(x, y, direct * inv);
+            im.sum.setRgb(x, y, (direct + termR + termT) * inv);
+            im.reflectConfidence.at(x, y, 0) = pathConfidence(dirsR);
+            im.refractConfidence.at(x, y, 0) = pathConfidence(dirsT);
+        }
+    });
+    return im;
+}
+
+}  // namespace rg::ray
