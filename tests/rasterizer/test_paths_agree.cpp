@@ -1,0 +1,283 @@
+// Two paths, one answer: the reference path and the fast path (tiles, threads, span fill,
+// specialised quad loops) must give the same framebuffer bytes and the same counters for
+// any input, and the fast path the same bytes for any thread count.
+//
+// Reproduce a failure: the message names the seed, session and draw; run
+//   build-raster/bin/test_rasterizer --gtest_filter='PathsAgree.*'
+// with RETROGLASS_PATHS_SEED=<seed> in the environment to replay that session alone.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <tbb/global_control.h>
+
+#include "raster_test_util.h"
+
+namespace rg::testing {
+namespace {
+
+using namespace rg::raster;
+
+struct Rng {
+    std::mt19937_64 g;
+    explicit Rng(uint64_t seed) : g(seed) {}
+    int i(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(g); }
+    float f(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
+    bool p(double prob) { return std::bernoulli_distribution(prob)(g); }
+    uint8_t byte() { return uint8_t(i(0, 255)); }
+};
+
+PipelineState randomState(Rng& r) {
+    PipelineState s;
+    s.cull = CullMode(r.i(0, 2));
+    s.shade = ShadeMode(r.i(0, 1));
+    s.depthTest = uint8_t(r.p(0.6));
+    s.depthWrite = uint8_t(r.p(0.7));
+    s.depthFunc = CompareFunc(r.i(0, 7));
+    s.alphaTest = uint8_t(r.p(0.3));
+    s.alphaFunc = CompareFunc(r.i(0, 7));
+    s.alphaRef = r.byte();
+    s.blend = uint8_t(r.p(0.6));
+    s.srcBlend = BlendFactor(r.i(0, 12));
+    s.dstBlend = BlendFactor(r.i(0, 10));  // BOTH* are source-only
+    s.blendOp = BlendOp(r.i(0, 4));
+    s.colorWriteMask = r.p(0.7) ? uint8_t(kWriteRGBA) : uint8_t(r.i(0, 15));
+    s.scissorTest = uint8_t(r.p(0.25));
+    s.specularEnable = uint8_t(r.p(0.3));
+    s.perspectiveColor = uint8_t(r.p(0.5));
+    return s;
+}
+
+Rgba8 randomColor(Rng& r) {
+    // Often a shared colour, so that constant-colour span fills are exercised.
+    return r.p(0.2) ? Rgba8{200, 100, 50, 180} : Rgba8{r.byte(), r.byte(), r.byte(), r.byte()};
+}
+
+float weird(Rng& r) {
+    const float values[] = {std::numeric_limits<float>::quiet_NaN(),
+                            std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(), 1e30f, -1e30f, 0.0f};
+    return values[r.i(0, 5)];
+}
+
+// One vertex of the given kind, in window space (pre-transformed) or object space.
+Vertex randomVertex(Rng& r, VertexSpace space, int kind, int w, int h, const Vertex* near) {
+    Vertex v;
+    v.diffuse = randomColor(r);
+    v.specular = Rgba8{r.byte(), r.byte(), r.byte(), r.byte()};
+    float x, y, z, q;
+    if (space == VertexSpace::Pretransformed) {
+        x = r.f(-10.0f, float(w) + 10.0f);
+        y = r.f(-10.0f, float(h) + 10.0f);
+        z = r.f(-0.2f, 1.2f);
+        q = r.p(0.5) ? 1.0f : r.f(0.05f, 3.0f);
+        switch (kind) {
+            case 1: x = r.f(-1e6f, 1e6f); y = r.f(-1e6f, 1e6f); break;  // huge
+            case 2: if (near) { x = near->position.x + r.f(-0.4f, 0.4f); y = near->position.y + r.f(-0.4f, 0.4f); } break;
+            case 3: if (near) { x = near->position.x; y = near->position.y; } break;  // degenerate
+            case 4: q = r.p(0.5) ? -q : 0.0f; break;  // behind the eye / w infinite
+            case 5: (r.p(0.5) ? x : (r.p(0.5) ? z : q)) = weird(r); break;
+            default: break;
+        }
+        v.position = {x, y, z, q};
+    } else {
+        x = r.f(-2.5f, 2.5f);
+        y = r.f(-2.5f, 2.5f);
+        z = r.f(-1.0f, 4.0f);  // the camera sits at z = −3: some vertices behind it
+        switch (kind) {
+            case 1: x = r.f(-1e5f, 1e5f); y = r.f(-1e5f, 1e5f); break;
+            case 2: if (near) { x = near->position.x + r.f(-0.01f, 0.01f); y = near->position.y + r.f(-0.01f, 0.01f); z = near->position.z; } break;
+            case 3: if (near) { x = near->position.x; y = near->position.y; z = near->position.z; } break;
+            case 4: z = r.f(-6.0f, -3.5f); break;  // behind the eye
+            case 5: (r.p(0.5) ? x : z) = weird(r); break;
+            default: break;
+        }
+        v.position = {x, y, z, 1.0f};
+    }
+    return v;
+}
+
+std::string firstDifference(const Framebuffer& a, const Framebuffer& b) {
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x) {
+            size_t i = size_t(y) * a.width() + x;
+            Rgba8 p = a.color()[i], q = b.color()[i];
+            if (!(p == q) || (!a.depth().empty() && a.depth()[i] != b.depth()[i])) {
+                std::ostringstream s;
+                s << "pixel (" << x << ", " << y << "): reference " << int(p.r) << "," << int(p.g)
+                  << "," << int(p.b) << "," << int(p.a) << " fast " << int(q.r) << "," << int(q.g)
+                  << "," << int(q.b) << "," << int(q.a);
+                if (!a.depth().empty()) s << " depth " << a.depth()[i] << " vs " << b.depth()[i];
+                return s.str();
+            }
+        }
+    return "none";
+}
+
+bool sameCounters(const Counters& a, const Counters& b) {
+    return a.passes == b.passes && a.drawCalls == b.drawCalls &&
+           a.trianglesSubmitted == b.trianglesSubmitted && a.trianglesCulled == b.trianglesCulled &&
+           a.trianglesClipped == b.trianglesClipped && a.trianglesDrawn == b.trianglesDrawn &&
+           a.trianglesInvalid == b.trianglesInvalid &&
+           a.fragmentsGenerated == b.fragmentsGenerated &&
+           a.fragmentsWritten == b.fragmentsWritten && a.blendOps == b.blendOps &&
+           a.bytesReadBack == b.bytesReadBack;
+}
+
+// One session: a pair of devices receiving the same `draws` random commands.
+void runSession(uint64_t seed, int draws, int& totalDraws, Counters& sum) {
+    Rng r(seed);
+    const int sizes[][2] = {{97, 71}, {64, 64}, {130, 33}, {17, 9}, {200, 150}};
+    const auto& sz = sizes[r.i(0, 4)];
+    const int w = sz[0], h = sz[1];
+    const Profile& prof = profile(r.p(0.7) ? ProfileId::GeForce256 : ProfileId::GeForce8800);
+    const DepthFormat fmt = DepthFormat(r.i(0, 2));
+    Device ref(prof, w, h, fmt, {Path::Reference, 1});
+    Device fast(prof, w, h, fmt, {Path::Fast, r.i(2, 3)});
+    Device* both[2] = {&ref, &fast};
+    const Rgba8 background{r.byte(), r.byte(), r.byte(), r.byte()};
+    for (Device* d : both) d->clear(true, background, true, 1.0f);
+    for (int k = 0; k < draws; ++k, ++totalDraws) {
+        const std::string where = "seed " + std::to_string(seed) + " draw " + std::to_string(k) +
+                                  " (" + std::to_string(w) + "x" + std::to_string(h) + ", " +
+                                  std::string(prof.name) + ")";
+        PipelineState s = randomState(r);
+        Viewport vp{0, 0, w, h, 0.0f, 1.0f};
+        if (r.p(0.2)) {
+            vp.x = r.i(0, w - 1);
+            vp.y = r.i(0, h - 1);
+            vp.width = r.i(1, w - vp.x);
+            vp.height = r.i(1, h - vp.y);
+            vp.minZ = r.f(0.0f, 0.5f);
+            vp.maxZ = r.f(0.5f, 1.0f);
+        }
+        Rect sc{r.i(-5, w), r.i(-5, h), r.i(0, w), r.i(0, h)};
+        glm::mat4 proj = r.p(0.7) ? glm::perspectiveLH_ZO(r.f(0.5f, 2.0f), r.f(0.5f, 2.0f),
+                                                          r.f(0.1f, 1.0f), r.f(5.0f, 50.0f))
+                                  : glm::orthoLH_ZO(-3.0f, 3.0f, -3.0f, 3.0f, -1.0f, 8.0f);
+        glm::mat4 view = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 3.0f));
+        glm::mat4 world = glm::rotate(glm::mat4(1.0f), r.f(0.0f, 6.28f), glm::vec3(0.3f, 1.0f, 0.1f));
+        const VertexSpace space = r.p(0.5) ? VertexSpace::Pretransformed : VertexSpace::Untransformed;
+        const Primitive prim = Primitive(r.i(0, 2));
+        const int n = r.i(3, 12);
+        std::vector<Vertex> verts;
+        for (int i = 0; i < n; ++i) {
+            int kind = r.p(0.6) ? 0 : r.i(1, 5);
+            verts.push_back(randomVertex(r, space, kind, w, h, verts.empty() ? nullptr : &verts.back()));
+        }
+        std::vector<uint32_t> indices;
+        if (r.p(0.3))
+            for (int i = 0; i < r.i(3, 15); ++i) indices.push_back(uint32_t(r.i(0, n - 1)));
+        const bool doClear = r.p(0.03);
+        const Rgba8 clearColor{r.byte(), r.byte(), r.byte(), r.byte()};
+        const float clearDepth = r.f(0.0f, 1.0f);
+
+        for (Device* d : both) {
+            d->setState(s);
+            d->setViewport(vp);
+            d->setScissor(sc);
+            d->setTransforms(world, view, proj);
+            if (doClear) d->clear(true, clearColor, true, clearDepth);
+            d->draw(prim, space, verts, indices);
+        }
+        if (std::memcmp(ref.framebuffer().color().data(), fast.framebuffer().color().data(),
+                        ref.framebuffer().color().size_bytes()) != 0 ||
+            ref.framebuffer().depth().size() != fast.framebuffer().depth().size() ||
+            !std::equal(ref.framebuffer().depth().begin(), ref.framebuffer().depth().end(),
+                        fast.framebuffer().depth().begin())) {
+            FAIL() << "paths differ after " << where << ": "
+                   << firstDifference(ref.framebuffer(), fast.framebuffer());
+        }
+        ASSERT_TRUE(sameCounters(ref.counters(), fast.counters()))
+            << "counters differ after " << where << "\nreference:\n"
+            << ref.counters().toString() << "fast:\n" << fast.counters().toString();
+    }
+    const Counters& c = ref.counters();
+    sum.trianglesSubmitted += c.trianglesSubmitted;
+    sum.trianglesClipped += c.trianglesClipped;
+    sum.trianglesInvalid += c.trianglesInvalid;
+    sum.trianglesCulled += c.trianglesCulled;
+    sum.trianglesDrawn += c.trianglesDrawn;
+    sum.fragmentsGenerated += c.fragmentsGenerated;
+    sum.fragmentsWritten += c.fragmentsWritten;
+    sum.blendOps += c.blendOps;
+    EXPECT_EQ(c.trianglesSubmitted, c.trianglesInvalid + c.trianglesCulled + c.trianglesDrawn)
+        << "seed " << seed;
+}
+
+TEST(PathsAgree, TenThousandRandomDrawsGiveIdenticalBytesAndCounters) {
+    int total = 0;
+    Counters sum;
+    if (const char* one = std::getenv("RETROGLASS_PATHS_SEED")) {
+        runSession(std::strtoull(one, nullptr, 10), 250, total, sum);
+        return;
+    }
+    for (uint64_t seed = 1; total < 10000 && !HasFatalFailure(); ++seed)
+        runSession(seed, 250, total, sum);
+    EXPECT_GE(total, 10000);
+    // The random input must have reached every outcome, or the comparison proves little.
+    EXPECT_GT(sum.trianglesClipped, 1000u);
+    EXPECT_GT(sum.trianglesInvalid, 1000u);
+    EXPECT_GT(sum.trianglesCulled, 1000u);
+    EXPECT_GT(sum.trianglesDrawn, 10000u);
+    EXPECT_GT(sum.fragmentsWritten, 1000000u);
+    EXPECT_GT(sum.blendOps, 100000u);
+    std::printf("[ stats    ] %s", sum.toString().c_str());
+}
+
+// The same frame from the fast path on 1, 2, 3 and 8 threads and from the reference path:
+// one SHA-256, one set of counters.
+TEST(ThreadCountDeterminism, SameBytesAndCountersOnAnyThreadCount) {
+    // Let TBB run more workers than cores, so that 3 and 8 threads really are 3 and 8.
+    tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 8);
+    for (int scene = 0; scene < 3; ++scene) {
+        Rng r(1000 + scene);
+        PipelineState s;
+        s.cull = CullMode::None;
+        s.blend = 1;
+        s.srcBlend = scene == 2 ? BlendFactor::One : BlendFactor::SrcAlpha;
+        s.dstBlend = scene == 2 ? BlendFactor::One : BlendFactor::InvSrcAlpha;
+        s.depthFunc = scene == 1 ? CompareFunc::Less : CompareFunc::Always;
+        s.shade = scene == 2 ? ShadeMode::Flat : ShadeMode::Gouraud;
+        std::vector<Vertex> verts;
+        for (int i = 0; i < 3 * 1500; ++i) {
+            Vertex v;
+            float cx = r.f(-20, 340), cy = r.f(-20, 260);  // triangles up to ~80 pixels
+            if (i % 3) cx = verts[i - 1].position.x + r.f(-80, 80), cy = verts[i - 1].position.y + r.f(-80, 80);
+            v.position = {cx, cy, r.f(0, 1), r.f(0.2f, 2.0f)};
+            v.diffuse = {r.byte(), r.byte(), r.byte(), r.byte()};
+            verts.push_back(v);
+        }
+        std::string expectedHash;
+        Counters expected;
+        for (int threads : {0, 1, 2, 3, 8}) {  // 0: the reference path
+            Device dev(profile(ProfileId::GeForce256), 320, 240, DepthFormat::D24,
+                       {threads == 0 ? Path::Reference : Path::Fast, std::max(threads, 1)});
+            dev.setState(s);
+            dev.clear(true, {0, 0, 0, 255}, true, 1.0f);
+            for (size_t b = 0; b < verts.size(); b += 3 * 500)
+                dev.draw(Primitive::TriangleList, VertexSpace::Pretransformed,
+                         std::span<const Vertex>(verts).subspan(b, 3 * 500));
+            std::string hash = frameHash(dev.framebuffer());
+            if (threads == 0) {
+                expectedHash = hash;
+                expected = dev.counters();
+                EXPECT_GT(expected.fragmentsWritten, 50000u);
+            } else {
+                EXPECT_EQ(hash, expectedHash) << "scene " << scene << " threads " << threads;
+                EXPECT_TRUE(sameCounters(dev.counters(), expected))
+                    << "scene " << scene << " threads " << threads << "\n"
+                    << dev.counters().toString();
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace rg::testing
