@@ -1,18 +1,348 @@
-// Placeholder cascade: no stages yet (issue 3 builds the texture units). Behaves as a
-// Direct3D 7 device with stage 0 disabled: the fragment colour is the diffuse colour.
+// The texture units: state, validation, and the per-quad cascade
+// (docs/hardware.md, "Texture stages"; pipeline order of Direct3D 7).
+//
+// shadeQuad per enabled stage: project the stage's coordinate set (q divide, or cube face
+// selection, or none for 4D), one λ for the quad, filter each pixel (tap list on the
+// reference path, sampleFast on the fast path: same bytes), colour table, then the
+// stage's colour and alpha operations. const and free of shared mutable state except a
+// relaxed atomic fetch counter, so the rasterizer may call it from many threads.
 #include "texunit/texture_units.h"
+
+#include <string>
+
+#include "core/arith8.h"
+#include "core/error.h"
+#include "texunit/cube_mapping.h"
 
 namespace rg::tex {
 
-void TextureUnits::validate(const Profile&) const {}
-bool TextureUnits::passThrough() const { return true; }
-uint32_t TextureUnits::texCoordSetsUsed() const { return 0; }
-glm::vec4 TextureUnits::processVertexTexCoord(int, const VertexEye&, const glm::vec4& in) const {
-    return in;
+namespace {
+constexpr Rgba8 kWhite{255, 255, 255, 255};
+
+void checkStage(int stage) {
+    if (stage < 0 || stage >= kMaxStages)
+        throw InvalidState("texture stage " + std::to_string(stage) + " outside [0, " +
+                           std::to_string(kMaxStages) + ")");
 }
-void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out, Path) const {
-    out = quad.diffuse;
+void checkSet(int set) {
+    if (set < 0 || set >= kMaxTexCoordSets)
+        throw InvalidState("texture coordinate set " + std::to_string(set) + " outside [0, " +
+                           std::to_string(kMaxTexCoordSets) + ")");
 }
-void TextureUnits::applyPixelTransfer(std::span<Rgba8>) const {}
+bool argIsTexture(uint8_t a) { return (a & arg::SourceMask) == arg::Texture; }
+
+bool opReads(TextureOp op, int which) {  // which: 1, 2 or 0 (Lerp weight)
+    switch (op) {
+        case TextureOp::Disable:
+        case TextureOp::PreModulate: return false;
+        case TextureOp::SelectArg1: return which == 1;
+        case TextureOp::SelectArg2: return which == 2;
+        case TextureOp::Lerp: return true;
+        default: return which != 0;
+    }
+}
+}  // namespace
+
+TextureUnits::TextureUnits() : fetches_(std::make_shared<std::atomic<uint64_t>>(0)) {}
+
+void TextureUnits::setStage(int i, const StageState& s) {
+    checkStage(i);
+    if (s.colorOp >= TextureOp::Count || s.alphaOp >= TextureOp::Count)
+        throw InvalidState("texture op out of range at stage " + std::to_string(i));
+    units_[size_t(i)].stage = s;
+}
+const StageState& TextureUnits::stage(int i) const {
+    checkStage(i);
+    return units_[size_t(i)].stage;
+}
+void TextureUnits::setTexture(int i, std::shared_ptr<const Texture> t) {
+    checkStage(i);
+    units_[size_t(i)].texture = std::move(t);
+}
+const std::shared_ptr<const Texture>& TextureUnits::texture(int i) const {
+    checkStage(i);
+    return units_[size_t(i)].texture;
+}
+void TextureUnits::setSampler(int i, const SamplerState& s) {
+    checkStage(i);
+    units_[size_t(i)].sampler = s;
+}
+const SamplerState& TextureUnits::sampler(int i) const {
+    checkStage(i);
+    return units_[size_t(i)].sampler;
+}
+void TextureUnits::setColorTable(int i, std::shared_ptr<const ColorTable> t) {
+    checkStage(i);
+    units_[size_t(i)].colorTable = std::move(t);
+}
+void TextureUnits::setTextureFactor(Rgba8 f) { tfactor_ = f; }
+void TextureUnits::setTexGen(int set, const TexGenState& g) {
+    checkSet(set);
+    texGen_[size_t(set)] = g;
+}
+const TexGenState& TextureUnits::texGen(int set) const {
+    checkSet(set);
+    return texGen_[size_t(set)];
+}
+void TextureUnits::setPixelTexture(const PixelTextureState& s) { pixelTexture_ = s; }
+void TextureUnits::setTextureMemory(std::shared_ptr<TextureMemory> m) { memory_ = std::move(m); }
+
+TextureCounters TextureUnits::counters() const {
+    TextureCounters c;
+    c.texelFetches = fetches_->load(std::memory_order_relaxed);
+    c.uploadBytes = memory_ ? memory_->uploadBytes() : 0;
+    return c;
+}
+void TextureUnits::resetCounters() {
+    fetches_->store(0, std::memory_order_relaxed);
+    if (memory_) memory_->resetFrameCounters();
+}
+
+int TextureUnits::activeStages() const {
+    int n = 0;
+    while (n < kMaxStages && units_[size_t(n)].stage.colorOp != TextureOp::Disable) ++n;
+    return n;
+}
+
+bool TextureUnits::readsTexture(int i) const {
+    const StageState& s = units_[size_t(i)].stage;
+    if (!units_[size_t(i)].texture) return false;
+    if (s.colorOp == TextureOp::PreModulate || s.colorOp == TextureOp::BlendTextureAlpha ||
+        s.colorOp == TextureOp::BlendTextureAlphaPM || s.alphaOp == TextureOp::BlendTextureAlpha ||
+        s.alphaOp == TextureOp::BlendTextureAlphaPM)
+        return true;
+    // A stage's texture also feeds the next stage when this one premodulates.
+    if (i > 0 && units_[size_t(i - 1)].stage.colorOp == TextureOp::PreModulate) return true;
+    return (opReads(s.colorOp, 1) && argIsTexture(s.colorArg1)) ||
+           (opReads(s.colorOp, 2) && argIsTexture(s.colorArg2)) ||
+           (opReads(s.colorOp, 0) && argIsTexture(s.colorArg0)) ||
+           (opReads(s.alphaOp, 1) && argIsTexture(s.alphaArg1)) ||
+           (opReads(s.alphaOp, 2) && argIsTexture(s.alphaArg2)) ||
+           (opReads(s.alphaOp, 0) && argIsTexture(s.alphaArg0));
+}
+
+bool TextureUnits::passThrough() const { return activeStages() == 0; }
+
+uint32_t TextureUnits::texCoordSetsUsed() const {
+    uint32_t m = 0;
+    const int n = activeStages();
+    for (int i = 0; i < n; ++i)
+        if (readsTexture(i)) m |= 1u << units_[size_t(i)].stage.texCoordIndex;
+    return m;
+}
+
+glm::vec4 TextureUnits::processVertexTexCoord(int set, const VertexEye& v, const glm::vec4& in) const {
+    if (set < 0 || set >= kMaxTexCoordSets) return in;
+    return generateTexCoord(texGen_[size_t(set)], v, in);
+}
+
+void TextureUnits::validate(const Profile& p) const {
+    const int n = activeStages();
+    if (n > 0) {
+        if (p.api == Api::OpenGL12) {
+            // One texture unit on the SGI machines; the ops must be what GL's
+            // environments and ARB_texture_env_combine can say.
+            for (int i = 0; i < n; ++i) {
+                const StageState& s = units_[size_t(i)].stage;
+                for (TextureOp op : {s.colorOp, s.alphaOp}) {
+                    switch (op) {
+                        case TextureOp::Disable:
+                        case TextureOp::SelectArg1:
+                        case TextureOp::SelectArg2:
+                        case TextureOp::Modulate:
+                        case TextureOp::Add:
+                        case TextureOp::BlendTextureAlpha:
+                        case TextureOp::Lerp: break;
+                        case TextureOp::AddSigned:
+                        case TextureOp::Subtract:
+                            p.require(Feature::TextureEnvCombine, std::string(textureOpName(op)));
+                            break;
+                        default:
+                            p.require(Feature::TextureStages,
+                                      "D3DTOP_" + std::string(textureOpName(op)) +
+                                          " has no OpenGL texture environment");
+                    }
+                }
+                if (s.colorScaleShift || s.alphaScaleShift)
+                    p.require(Feature::TextureEnvCombine, "RGB_SCALE/ALPHA_SCALE");
+            }
+        } else {
+            p.require(Feature::TextureStages);
+            for (int i = 0; i < n; ++i) {
+                const StageState& s = units_[size_t(i)].stage;
+                if ((s.colorOp == TextureOp::Lerp || s.alphaOp == TextureOp::Lerp) &&
+                    p.api == Api::Direct3D7)
+                    throw UnsupportedFeature(std::string(p.name), "D3DTOP_LERP",
+                                             "a Direct3D 8 operation");
+                if ((s.colorScaleShift || s.alphaScaleShift) && p.api == Api::Direct3D7)
+                    throw UnsupportedFeature(std::string(p.name), "stage output scale",
+                                             "use MODULATE2X/4X");
+            }
+        }
+        p.requireLimit("texture stages", n, p.maxTextureStages);
+    }
+    for (int i = 0; i < n; ++i) {
+        const Unit& u = units_[size_t(i)];
+        const StageState& s = u.stage;
+        switch (s.alphaOp) {
+            case TextureOp::ModulateAlphaAddColor:
+            case TextureOp::ModulateColorAddAlpha:
+            case TextureOp::ModulateInvAlphaAddColor:
+            case TextureOp::ModulateInvColorAddAlpha:
+                throw InvalidState("stage " + std::to_string(i) + ": D3DTOP_" +
+                                   std::string(textureOpName(s.alphaOp)) + " is a colour-only op");
+            default: break;
+        }
+        if (s.texCoordIndex >= p.maxTexCoordSets || s.texCoordIndex >= kMaxTexCoordSets)
+            throw UnsupportedFeature(std::string(p.name), "texture coordinate set " +
+                                                              std::to_string(s.texCoordIndex));
+        if (u.texture && readsTexture(i)) {
+            const Texture& t = *u.texture;
+            if (!t.complete())
+                throw InvalidState("stage " + std::to_string(i) +
+                                   ": texture incomplete (a level or face was never uploaded)");
+            switch (t.desc().target) {
+                case TextureTarget::CubeMap: p.require(Feature::CubeMap); break;
+                case TextureTarget::Texture4D: p.require(Feature::Texture4D); break;
+                case TextureTarget::Texture3D: p.require(Feature::Texture3D); break;
+                default: break;
+            }
+            if (t.isFloat()) p.require(Feature::FloatTexture);
+            if (texGen_[s.texCoordIndex].matrixEnabled &&
+                t.desc().target != TextureTarget::CubeMap && t.desc().target != TextureTarget::Texture4D)
+                p.require(Feature::ProjectedTexture);
+        }
+        if (u.colorTable) {
+            p.require(Feature::TextureColorTable);
+            p.requireLimit("texture colour table size", int64_t(u.colorTable->entries.size()),
+                           p.colorTableSize);
+        }
+    }
+    if (pixelTexture_.enabled) {
+        p.require(Feature::PixelTexture);
+        checkStage(pixelTexture_.stage);
+        const Unit& u = units_[pixelTexture_.stage];
+        if (!u.texture) throw InvalidState("pixel texture enabled without a texture");
+        if (!u.texture->complete()) throw InvalidState("pixel texture: texture incomplete");
+        if (u.texture->desc().target == TextureTarget::Texture4D) p.require(Feature::Texture4D);
+        if (u.texture->desc().target == TextureTarget::CubeMap)
+            throw InvalidState("pixel texture takes 1D, 2D, 3D or 4D textures, not cube maps");
+        if (u.colorTable) p.require(Feature::TextureColorTable);
+    }
+}
+
+void TextureUnits::projectQuad(int i, const FragmentQuad& quad, std::array<glm::vec4, 4>& c,
+                               int32_t& lambda) const {
+    const Unit& u = units_[size_t(i)];
+    const Texture& t = *u.texture;
+    const auto& in = quad.texCoord[u.stage.texCoordIndex];
+    const int base = std::clamp(u.sampler.baseLevel, 0, t.levels() - 1);
+    switch (t.desc().target) {
+        case TextureTarget::CubeMap: {
+            // λ from all four pixels measured on pixel 0's face; then each pixel's own face.
+            const CubeFace f0 = selectCubeFace(glm::vec3(in[0])).face;
+            std::array<glm::vec4, 4> onFace;
+            for (int p = 0; p < 4; ++p) {
+                CubeCoord cc = projectOntoCubeFace(f0, glm::vec3(in[size_t(p)]));
+                onFace[size_t(p)] = glm::vec4(cc.s, cc.t, 0.0f, 0.0f);
+                CubeCoord own = selectCubeFace(glm::vec3(in[size_t(p)]));
+                c[size_t(p)] = glm::vec4(own.s, own.t, float(int(own.face)), 0.0f);
+            }
+            lambda = quadLambda(onFace, t.levelSize(base), 2);
+            break;
+        }
+        case TextureTarget::Texture4D:
+            // SGIS_texture4D: q is the fourth coordinate, never a divisor.
+            for (int p = 0; p < 4; ++p) c[size_t(p)] = in[size_t(p)];
+            lambda = quadLambda(c, t.levelSize(base), 4);
+            break;
+        default:
+            // The projective divide (GL: always; D3D7: D3DTTFF_PROJECTED with the divisor
+            // placed in q by the texture matrix). x/1 is exact, so q = 1 changes nothing.
+            for (int p = 0; p < 4; ++p) {
+                const glm::vec4& v = in[size_t(p)];
+                c[size_t(p)] = glm::vec4(v.x / v.w, v.y / v.w, v.z / v.w, 0.0f);
+            }
+            lambda = quadLambda(c, t.levelSize(base), t.dims());
+            break;
+    }
+    lambda = biasAndClampLambda(lambda, u.sampler);
+}
+
+TapList TextureUnits::queryTaps(int stage, const FragmentQuad& quad, int pixel) const {
+    checkStage(stage);
+    TapList taps;
+    const Unit& u = units_[size_t(stage)];
+    if (!u.texture || pixel < 0 || pixel > 3) return taps;
+    std::array<glm::vec4, 4> c;
+    int32_t lambda;
+    projectQuad(stage, quad, c, lambda);
+    gatherTaps(*u.texture, u.sampler, c[size_t(pixel)], lambda, taps);
+    return taps;
+}
+
+std::array<Rgba8, 4> TextureUnits::sampleStage(int stage, const FragmentQuad& quad, Path path) const {
+    checkStage(stage);
+    std::array<Rgba8, 4> out{kWhite, kWhite, kWhite, kWhite};
+    const Unit& u = units_[size_t(stage)];
+    if (!u.texture) return out;
+    std::array<glm::vec4, 4> c;
+    int32_t lambda;
+    projectQuad(stage, quad, c, lambda);
+    uint64_t fetched = 0;
+    for (int p = 0; p < 4; ++p) {
+        if (path == Path::Reference) {
+            TapList taps;
+            gatherTaps(*u.texture, u.sampler, c[size_t(p)], lambda, taps);
+            out[size_t(p)] = resolveTaps(*u.texture, u.sampler, taps);
+            fetched += uint64_t(taps.count);
+        } else {
+            out[size_t(p)] = sampleFast(*u.texture, u.sampler, c[size_t(p)], lambda);
+        }
+        if (u.colorTable) out[size_t(p)] = applyColorTable(*u.colorTable, out[size_t(p)]);
+    }
+    if (path == Path::Fast) {
+        // The fast path counts what the reference would: taps per sample follow from the
+        // level choice and filter alone.
+        const LevelChoice ch = chooseLevels(*u.texture, u.sampler, lambda);
+        uint64_t per = (ch.filter == FilterMode::Linear ? (1u << u.texture->dims()) : 1u) *
+                       (ch.blend ? 2u : 1u);
+        fetched = per * 4;
+    }
+    fetches_->fetch_add(fetched, std::memory_order_relaxed);
+    return out;
+}
+
+void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out, Path path) const {
+    const int n = activeStages();
+    std::array<Rgba8, 4> current = quad.diffuse;
+    std::array<Rgba8, 4> premod{};
+    bool havePremod = false;
+    for (int i = 0; i < n; ++i) {
+        const StageState& st = units_[size_t(i)].stage;
+        std::array<Rgba8, 4> texel{kWhite, kWhite, kWhite, kWhite};
+        if (readsTexture(i)) texel = sampleStage(i, quad, path);
+        if (havePremod) {
+            // D3DTOP_PREMODULATE of the previous stage: its texture multiplies this one's.
+            for (int p = 0; p < 4; ++p) {
+                Rgba8& t = texel[size_t(p)];
+                const Rgba8& m = premod[size_t(p)];
+                t = {uint8_t(arith8::mulDiv255(t.r, m.r)), uint8_t(arith8::mulDiv255(t.g, m.g)),
+                     uint8_t(arith8::mulDiv255(t.b, m.b)), uint8_t(arith8::mulDiv255(t.a, m.a))};
+            }
+            havePremod = false;
+        }
+        if (st.colorOp == TextureOp::PreModulate) {
+            premod = texel;
+            havePremod = true;
+        }
+        for (int p = 0; p < 4; ++p) {
+            StageInputs in{quad.diffuse[size_t(p)], quad.specular[size_t(p)], current[size_t(p)],
+                           texel[size_t(p)], tfactor_};
+            current[size_t(p)] = evaluateStage(st, in);
+        }
+    }
+    out = current;
+}
 
 }  // namespace rg::tex

@@ -12,7 +12,9 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <span>
 
 #include <glm/mat4x4.hpp>
@@ -22,6 +24,12 @@
 #include "core/color.h"
 #include "core/path.h"
 #include "core/profile.h"
+#include "texunit/color_table.h"
+#include "texunit/pixel_texture.h"
+#include "texunit/sampler.h"
+#include "texunit/stages.h"
+#include "texunit/texgen.h"
+#include "texunit/texture.h"
 
 namespace rg::tex {
 
@@ -71,6 +79,63 @@ class TextureUnits {
     void shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out, Path path) const;
     // Pixel transfer of one row (SGIX_pixel_texture when enabled; identity otherwise).
     void applyPixelTransfer(std::span<Rgba8> pixels) const;
+
+    // ---- configured by applications -------------------------------------------------
+    TextureUnits();
+    // Stage i of the cascade (D3D7 SetTextureStageState; GL: texEnvStage/combineStage).
+    // Stages past the first disabled colour op are ignored, as in Direct3D 7.
+    void setStage(int stage, const StageState& state);
+    const StageState& stage(int stage) const;
+    // The texture a stage reads (D3D7 SetTexture; GL: the unit's bound texture). nullptr
+    // unbinds: TEXTURE then reads opaque white.
+    void setTexture(int stage, std::shared_ptr<const Texture> texture);
+    const std::shared_ptr<const Texture>& texture(int stage) const;
+    void setSampler(int stage, const SamplerState& sampler);
+    const SamplerState& sampler(int stage) const;
+    // SGI_texture_color_table of a unit (nullptr disables it).
+    void setColorTable(int stage, std::shared_ptr<const ColorTable> table);
+    // D3DRENDERSTATE_TEXTUREFACTOR; on the OpenGL profiles the TEXTURE_ENV_COLOR.
+    void setTextureFactor(Rgba8 factor);
+    Rgba8 textureFactor() const { return tfactor_; }
+    // Coordinate generation and texture matrix of coordinate set `set`.
+    void setTexGen(int set, const TexGenState& state);
+    const TexGenState& texGen(int set) const;
+    void setPixelTexture(const PixelTextureState& state);
+    const PixelTextureState& pixelTexture() const { return pixelTexture_; }
+    // Optional: the memory whose upload bytes counters() reports.
+    void setTextureMemory(std::shared_ptr<TextureMemory> memory);
+
+    // Texel fetches since resetCounters() and the memory's upload bytes this frame.
+    TextureCounters counters() const;
+    void resetCounters();
+
+    // ---- instrumented query (PEM rendering matrix) ------------------------------------
+    // The texel taps stage `stage` reads for pixel `pixel` of `quad`: the same projection,
+    // LOD, mapping and tap generation as shadeQuad's reference path (before the colour
+    // table). Empty when the stage has no texture.
+    TapList queryTaps(int stage, const FragmentQuad& quad, int pixel) const;
+    // The texel colour per pixel of a stage (after the colour table), as shadeQuad sees it.
+    std::array<Rgba8, 4> sampleStage(int stage, const FragmentQuad& quad, Path path) const;
+
+  private:
+    struct Unit {
+        StageState stage;
+        SamplerState sampler;
+        std::shared_ptr<const Texture> texture;
+        std::shared_ptr<const ColorTable> colorTable;
+    };
+    int activeStages() const;  // stages before the first colorOp == Disable
+    bool readsTexture(int stage) const;
+    void projectQuad(int stage, const FragmentQuad& quad, std::array<glm::vec4, 4>& coords,
+                     int32_t& lambda) const;
+
+    std::array<Unit, kMaxStages> units_{};
+    std::array<TexGenState, kMaxTexCoordSets> texGen_{};
+    Rgba8 tfactor_{255, 255, 255, 255};
+    PixelTextureState pixelTexture_{};
+    std::shared_ptr<TextureMemory> memory_;
+    // Shared by copies; relaxed atomic adds once per quad / row.
+    std::shared_ptr<std::atomic<uint64_t>> fetches_;
 };
 
 }  // namespace rg::tex

@@ -1,0 +1,288 @@
+// The texture units as the rasterizer sees them: which sets are interpolated, validation
+// against the profiles, the cascade on a quad (reference against fast under random
+// states), and the instrumented tap query the PEM demo uses.
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "tex_test_util.h"
+#include "texunit/cube_mapping.h"
+#include "texunit/texture_units.h"
+
+namespace rg::tex {
+namespace {
+
+using testing::makeRgba8;
+using testing::Rng;
+
+StageState op(TextureOp c, uint8_t a1 = arg::Texture, uint8_t a2 = arg::Current,
+              TextureOp a = TextureOp::SelectArg1, uint8_t set = 0) {
+    StageState s;
+    s.colorOp = c;
+    s.colorArg1 = a1;
+    s.colorArg2 = a2;
+    s.alphaOp = a;
+    s.texCoordIndex = set;
+    return s;
+}
+
+struct Fixture {
+    const Profile& gf = profile(ProfileId::GeForce256);
+    std::shared_ptr<TextureMemory> mem = std::make_shared<TextureMemory>(gf);
+    std::shared_ptr<Texture> tex2d = makeRgba8(
+        *mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 16, 16, 1, 1, 5},
+        [](int l, int, int x, int y, int, int) {
+            return Rgba8{uint8_t(x * 16), uint8_t(y * 16), uint8_t(l * 50), uint8_t(255 - x * y)};
+        });
+    std::shared_ptr<Texture> cube = makeRgba8(
+        *mem, {TextureTarget::CubeMap, TexelFormat::RGBA8, 8, 8, 1, 1, 4},
+        [](int l, int f, int x, int y, int, int) {
+            return Rgba8{uint8_t(f * 40 + x), uint8_t(l * 60 + y), uint8_t(x * y * 3), uint8_t(200 + f)};
+        });
+    std::shared_ptr<Texture> fresnel = makeRgba8(
+        *mem, {TextureTarget::Texture1D, TexelFormat::RGBA8, 32, 1, 1, 1, 6},
+        [](int l, int, int x, int, int, int) {
+            return Rgba8{uint8_t(x * 8), uint8_t(x * 8), uint8_t(x * 8 + l), uint8_t(x * 8)};
+        });
+};
+
+TEST(TextureUnits, DefaultIsPassThrough) {
+    TextureUnits tu;
+    EXPECT_TRUE(tu.passThrough());
+    EXPECT_EQ(tu.texCoordSetsUsed(), 0u);
+    FragmentQuad q;
+    q.diffuse = {Rgba8{1, 2, 3, 4}, Rgba8{5, 6, 7, 8}, Rgba8{9, 10, 11, 12}, Rgba8{13, 14, 15, 16}};
+    std::array<Rgba8, 4> out;
+    tu.shadeQuad(q, out, Path::Fast);
+    EXPECT_EQ(out, q.diffuse);
+    EXPECT_NO_THROW(tu.validate(profile(ProfileId::SgiO2)));
+}
+
+TEST(TextureUnits, CoordinateSetsUsedFollowTheStagesThatReadTextures) {
+    Fixture fx;
+    TextureUnits tu;
+    tu.setStage(0, op(TextureOp::Modulate, arg::Texture, arg::Diffuse, TextureOp::SelectArg1, 3));
+    EXPECT_EQ(tu.texCoordSetsUsed(), 0u);  // no texture bound: TEXTURE is white
+    tu.setTexture(0, fx.tex2d);
+    EXPECT_EQ(tu.texCoordSetsUsed(), 1u << 3);
+    EXPECT_FALSE(tu.passThrough());
+    tu.setStage(1, op(TextureOp::SelectArg1, arg::Diffuse, arg::Current, TextureOp::SelectArg1, 5));
+    tu.setTexture(1, fx.cube);
+    // Stage 1 names set 5 but neither its colour nor its alpha op reads TEXTURE.
+    StageState s1 = tu.stage(1);
+    s1.alphaArg1 = arg::Diffuse;
+    tu.setStage(1, s1);
+    EXPECT_EQ(tu.texCoordSetsUsed(), 1u << 3);
+    s1.colorArg1 = arg::Texture | arg::Complement;
+    tu.setStage(1, s1);
+    EXPECT_EQ(tu.texCoordSetsUsed(), (1u << 3) | (1u << 5));
+    // Stages after a disabled one are ignored.
+    StageState off;
+    tu.setStage(0, off);
+    EXPECT_EQ(tu.texCoordSetsUsed(), 0u);
+    EXPECT_TRUE(tu.passThrough());
+}
+
+TEST(TextureUnits, ValidateAgainstProfiles) {
+    Fixture fx;
+    TextureUnits tu;
+    tu.setTexture(0, fx.tex2d);
+    tu.setStage(0, op(TextureOp::Modulate));
+    tu.setStage(1, op(TextureOp::Add, arg::Diffuse));
+    EXPECT_NO_THROW(tu.validate(fx.gf));
+    tu.setStage(2, op(TextureOp::Add, arg::Diffuse));
+    EXPECT_THROW(tu.validate(fx.gf), UnsupportedFeature);  // 3 stages > 2 on a GeForce 256
+    EXPECT_NO_THROW(tu.validate(profile(ProfileId::GeForce3)));
+    tu.setStage(1, StageState{});
+    // D3D-only ops on the SGI machines, and more than one unit there.
+    tu.setStage(0, op(TextureOp::DotProduct3));
+    EXPECT_THROW(tu.validate(profile(ProfileId::SgiOctaneMxe)), UnsupportedFeature);
+    tu.setStage(0, op(TextureOp::Modulate));
+    EXPECT_NO_THROW(tu.validate(profile(ProfileId::SgiOctaneMxe)));
+    tu.setStage(1, op(TextureOp::Modulate));
+    EXPECT_THROW(tu.validate(profile(ProfileId::SgiOctaneMxe)), UnsupportedFeature);
+    tu.setStage(1, StageState{});
+    // D3DTOP_LERP is Direct3D 8; colour-only ops refuse to be ALPHAOPs.
+    tu.setStage(0, op(TextureOp::Lerp));
+    EXPECT_THROW(tu.validate(fx.gf), UnsupportedFeature);
+    tu.setStage(0, op(TextureOp::Modulate, arg::Texture, arg::Current, TextureOp::ModulateAlphaAddColor));
+    EXPECT_THROW(tu.validate(fx.gf), InvalidState);
+    // An incomplete texture cannot be drawn with.
+    auto partial = fx.mem->create({TextureTarget::Texture2D, TexelFormat::RGBA8, 4, 4, 1, 1, 3});
+    fx.mem->upload(*partial, 0, 0, std::vector<uint8_t>(64));
+    tu.setStage(0, op(TextureOp::Modulate));
+    tu.setTexture(0, partial);
+    EXPECT_THROW(tu.validate(fx.gf), InvalidState);
+    // A stage index past the device's array is refused at once.
+    EXPECT_THROW(tu.setStage(kMaxStages, StageState{}), InvalidState);
+}
+
+TEST(TextureUnits, TextureMatrixQDivideAndGeneratedCoordinates) {
+    Fixture fx;
+    TextureUnits tu;
+    TexGenState g;
+    g.mode = TexGenMode::CameraSpacePosition;
+    g.matrixEnabled = true;
+    g.matrix = glm::mat4(0.5f);  // (x, y, z, 1) → ½(x, y, z, 1)
+    tu.setTexGen(2, g);
+    VertexEye v{};
+    v.eyePosition = {2, 4, 6, 1};
+    EXPECT_EQ(tu.processVertexTexCoord(2, v, glm::vec4(9)), glm::vec4(1, 2, 3, 0.5f));
+    EXPECT_EQ(tu.processVertexTexCoord(0, v, glm::vec4(9)), glm::vec4(9));
+    // q divide at the pixel: (s, t, q) = (0.25, 0.25, 0.5) reads texel (8, 8) at the
+    // level-0 centre... (s/q = 0.53125 → texel 8 of 16).
+    tu.setTexture(0, fx.tex2d);
+    SamplerState s;
+    s.magFilter = s.minFilter = FilterMode::Nearest;
+    tu.setSampler(0, s);
+    tu.setStage(0, op(TextureOp::SelectArg1));
+    FragmentQuad q;
+    for (auto& c : q.texCoord[0]) c = {0.265625f, 0.265625f, 0, 0.5f};
+    std::array<Rgba8, 4> out;
+    tu.shadeQuad(q, out, Path::Reference);
+    EXPECT_EQ(out[0], (Rgba8{128, 128, 0, 255 - 64}));
+}
+
+TEST(TextureUnits, PreModulateMultipliesTheNextStagesTexture) {
+    Fixture fx;
+    TextureUnits tu;
+    auto white = makeRgba8(*fx.mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 1, 1, 1, 1, 1},
+                           [](int, int, int, int, int, int) { return Rgba8{128, 255, 64, 255}; });
+    auto other = makeRgba8(*fx.mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 1, 1, 1, 1, 1},
+                           [](int, int, int, int, int, int) { return Rgba8{255, 128, 128, 128}; });
+    tu.setTexture(0, white);
+    tu.setTexture(1, other);
+    tu.setStage(0, op(TextureOp::PreModulate));
+    tu.setStage(1, op(TextureOp::SelectArg1));
+    FragmentQuad q;
+    std::array<Rgba8, 4> out;
+    tu.shadeQuad(q, out, Path::Reference);
+    EXPECT_EQ(out[0], (Rgba8{128, 128, 32, 128}));
+}
+
+// A random stage state within what the GeForce 256 / GeForce3 can take.
+StageState randomStage(Rng& rng, int sets) {
+    StageState s;
+    auto anyArg = [&] {
+        uint8_t a = uint8_t(rng.below(5));
+        if (rng.below(4) == 0) a |= arg::Complement;
+        if (rng.below(4) == 0) a |= arg::AlphaReplicate;
+        return a;
+    };
+    s.colorOp = TextureOp(1 + rng.below(uint32_t(TextureOp::DotProduct3)));  // SelectArg1..DotProduct3
+    s.alphaOp = TextureOp(1 + rng.below(uint32_t(TextureOp::BlendCurrentAlpha)));
+    s.colorArg1 = anyArg();
+    s.colorArg2 = anyArg();
+    s.alphaArg1 = anyArg();
+    s.alphaArg2 = anyArg();
+    s.texCoordIndex = uint8_t(rng.below(uint32_t(sets)));
+    return s;
+}
+
+TEST(TextureUnits, ShadeQuadFastMatchesReferenceUnderRandomStates) {
+    Fixture fx;
+    Rng rng(77);
+    const std::shared_ptr<Texture> textures[] = {fx.tex2d, fx.cube, fx.fresnel, nullptr};
+    int quads = 0;
+    for (int stateI = 0; stateI < 300; ++stateI) {
+        TextureUnits tu;
+        const int n = 1 + int(rng.below(2));
+        for (int i = 0; i < n; ++i) {
+            tu.setStage(i, randomStage(rng, 3));
+            tu.setTexture(i, textures[rng.below(4)]);
+            SamplerState s;
+            for (auto& a : s.address) a = AddressMode(rng.below(5));
+            s.magFilter = FilterMode(rng.below(2));
+            s.minFilter = FilterMode(rng.below(2));
+            s.mipFilter = MipMode(rng.below(3));
+            s.lodBias = rng.uniform(-1, 1);
+            s.borderColor = {uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()),
+                             uint8_t(rng.next())};
+            tu.setSampler(i, s);
+        }
+        tu.setTextureFactor({uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()),
+                             uint8_t(rng.next())});
+        for (int k = 0; k < 100; ++k) {
+            FragmentQuad q;
+            const float scale = rng.uniform(0.001f, 0.3f);
+            for (int set = 0; set < 3; ++set) {
+                glm::vec4 base(rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2), 1.0f);
+                glm::vec4 dx(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f);
+                glm::vec4 dy(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f);
+                for (int p = 0; p < 4; ++p)
+                    q.texCoord[size_t(set)][size_t(p)] =
+                        base + scale * (float(p & 1) * dx + float(p >> 1) * dy);
+            }
+            for (int p = 0; p < 4; ++p) {
+                q.diffuse[size_t(p)] = {uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()),
+                                        uint8_t(rng.next())};
+                q.specular[size_t(p)] = {uint8_t(rng.next()), uint8_t(rng.next()),
+                                         uint8_t(rng.next()), uint8_t(rng.next())};
+            }
+            std::array<Rgba8, 4> ref, fast;
+            tu.shadeQuad(q, ref, Path::Reference);
+            tu.shadeQuad(q, fast, Path::Fast);
+            ASSERT_EQ(ref, fast) << "state " << stateI << " quad " << k << " (seed 77)";
+            ++quads;
+        }
+    }
+    EXPECT_EQ(quads, 30000);
+}
+
+TEST(TextureUnits, TapQueryReproducesTheSampleAndItsWeightsSumToOne) {
+    // The PEM set-up: stage 0 cube map MODULATE diffuse, stage 1 MODULATE by a 1D
+    // Fresnel texture, trilinear, unnormalized cube coordinates per vertex.
+    Fixture fx;
+    TextureUnits tu;
+    SamplerState tri;
+    tri.mipFilter = MipMode::Linear;
+    tu.setTexture(0, fx.cube);
+    tu.setSampler(0, tri);
+    tu.setStage(0, op(TextureOp::Modulate, arg::Texture, arg::Diffuse, TextureOp::SelectArg1, 0));
+    tu.setTexture(1, fx.fresnel);
+    tu.setSampler(1, tri);
+    tu.setStage(1, op(TextureOp::Modulate, arg::Texture, arg::Current, TextureOp::Modulate, 1));
+    EXPECT_NO_THROW(tu.validate(profile(ProfileId::GeForce256)));
+    EXPECT_EQ(tu.texCoordSetsUsed(), 3u);
+    Rng rng(8);
+    for (int k = 0; k < 2000; ++k) {
+        FragmentQuad q;
+        glm::vec3 d(rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3));
+        glm::vec3 dx(rng.uniform(-0.5f, 0.5f), rng.uniform(-0.5f, 0.5f), rng.uniform(-0.5f, 0.5f));
+        for (int p = 0; p < 4; ++p) {
+            q.texCoord[0][size_t(p)] = glm::vec4(d + float(p & 1) * dx + float(p >> 1) * 0.5f * glm::vec3(dx.z, dx.x, dx.y), 1);
+            q.texCoord[1][size_t(p)] = glm::vec4(rng.uniform(0, 1), 0, 0, 1);
+        }
+        const auto texels = tu.sampleStage(0, q, Path::Reference);
+        for (int p = 0; p < 4; ++p) {
+            TapList taps = tu.queryTaps(0, q, p);
+            ASSERT_GT(taps.count, 0);
+            double sum = 0;
+            for (int i = 0; i < taps.count; ++i) sum += taps.weightOf(i);
+            ASSERT_DOUBLE_EQ(sum, 1.0);
+            // Every tap lies on the face the pixel's own direction selects.
+            ASSERT_EQ(taps.taps[0].face, uint8_t(selectCubeFace(glm::vec3(q.texCoord[0][size_t(p)])).face));
+            ASSERT_EQ(resolveTaps(*fx.cube, tri, taps), texels[size_t(p)]);
+        }
+    }
+    EXPECT_EQ(tu.queryTaps(5, FragmentQuad{}, 0).count, 0);  // no texture: no taps
+}
+
+TEST(TextureUnits, CountersCountFetchesAndUploads) {
+    Fixture fx;
+    TextureUnits tu;
+    tu.setTextureMemory(fx.mem);
+    EXPECT_GT(tu.counters().uploadBytes, 0u);
+    tu.resetCounters();
+    EXPECT_EQ(tu.counters().uploadBytes, 0u);
+    tu.setTexture(0, fx.tex2d);
+    tu.setStage(0, op(TextureOp::SelectArg1));
+    FragmentQuad q;
+    std::array<Rgba8, 4> out;
+    tu.shadeQuad(q, out, Path::Reference);  // bilinear magnification: 4 taps per pixel
+    EXPECT_EQ(tu.counters().texelFetches, 16u);
+    tu.shadeQuad(q, out, Path::Fast);
+    EXPECT_EQ(tu.counters().texelFetches, 32u);
+}
+
+}  // namespace
+}  // namespace rg::tex

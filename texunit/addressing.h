@@ -1,0 +1,77 @@
+// Internal: texel addressing shared by the reference tap list and the fast path, so the
+// two cannot drift (docs/hardware.md, "Filtering").
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "texunit/sampler.h"
+
+namespace rg::tex::detail {
+
+// ⌊c·n·2^kSubTexelBits⌋ with c·n rounded once to float and clamped to ±2^22 texels so
+// that the fixed-point value fits comfortably in 64 bits; NaN counts as 0.
+inline int64_t toSubTexel(float c, int n) {
+    float u = c * float(n);
+    if (!(u == u)) u = 0.0f;
+    u = std::clamp(u, -4194304.0f, 4194304.0f);
+    return int64_t(std::floor(u * float(1 << kSubTexelBits)));
+}
+
+// An integer texel coordinate under an address mode: the index inside [0, n) or -1 for
+// the border colour.
+inline int32_t addressTexel(int64_t i, int n, AddressMode m) {
+    switch (m) {
+        case AddressMode::Wrap: {
+            int64_t r = i % n;
+            return int32_t(r < 0 ? r + n : r);
+        }
+        case AddressMode::Mirror: {
+            int64_t p = 2 * int64_t(n), r = i % p;
+            if (r < 0) r += p;
+            return int32_t(r < n ? r : p - 1 - r);
+        }
+        case AddressMode::ClampToEdge: return int32_t(std::clamp<int64_t>(i, 0, n - 1));
+        case AddressMode::Clamp:
+        case AddressMode::Border: return (i < 0 || i >= n) ? -1 : int32_t(i);
+    }
+    return 0;
+}
+
+// One axis of a filter footprint: 1 tap (nearest, weight 1) or 2 taps (linear, weights
+// out of 2^kSubTexelBits).
+struct AxisFootprint {
+    int32_t index[2];   // -1: border
+    uint32_t weight[2];
+    int count;
+};
+
+inline AxisFootprint axisFootprint(float c, int n, AddressMode m, FilterMode f) {
+    AxisFootprint a{};
+    // OpenGL 1.2 CLAMP clamps the coordinate to [0, 1] before the texel is computed.
+    if (m == AddressMode::Clamp) c = std::clamp(c, 0.0f, 1.0f);
+    if (!(c == c)) c = 0.0f;
+    if (f == FilterMode::Nearest) {
+        // i = ⌊u⌋; under CLAMP the only outside value is u = n (c = 1), which GL 1.2 maps
+        // to n − 1.
+        int64_t i = toSubTexel(c, n) >> kSubTexelBits;
+        if (m == AddressMode::Clamp) i = std::min<int64_t>(i, n - 1);
+        a.index[0] = addressTexel(i, n, m);
+        a.weight[0] = 1;
+        a.count = 1;
+    } else {
+        // i0 = ⌊u − ½⌋, i1 = i0 + 1, α = frac(u − ½) in kSubTexelBits bits.
+        int64_t u = toSubTexel(c, n) - (1 << (kSubTexelBits - 1));
+        int64_t i0 = u >> kSubTexelBits;
+        uint32_t frac = uint32_t(u & ((1 << kSubTexelBits) - 1));
+        a.index[0] = addressTexel(i0, n, m);
+        a.index[1] = addressTexel(i0 + 1, n, m);
+        a.weight[0] = (1u << kSubTexelBits) - frac;
+        a.weight[1] = frac;
+        a.count = 2;
+    }
+    return a;
+}
+
+}  // namespace rg::tex::detail

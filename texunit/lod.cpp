@@ -1,0 +1,85 @@
+// Level of detail for a 2×2 quad (docs/hardware.md, "Level of detail"; OpenGL 1.2
+// §3.8.5–3.8.8).
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "texunit/sampler.h"
+
+namespace rg::tex {
+
+namespace {
+// λ for ρ = 0 (all four pixels on one texel coordinate): deep magnification, far from
+// any int32 overflow after bias.
+constexpr int32_t kLambdaZero = -(1 << 20);
+
+int32_t fixedFromFloat(float v) {
+    if (!(v == v)) return 0;
+    v = std::clamp(v, -4096.0f, 4096.0f);
+    return int32_t(std::floor(v * float(kLodOne) + 0.5f));
+}
+}  // namespace
+
+int32_t log2Fixed(float x) {
+    if (!(x > 0.0f)) return kLambdaZero;
+    if (std::isinf(x) || std::isnan(x)) return 255 << kLodFracBits;
+    // The float's bits read as a fixed-point number are (e + 127)·2^23 + (m − 1)·2^23:
+    // minus the bias this is e + (m − 1), the piecewise-linear log2 hardware used (exact
+    // at powers of two, at most 0.0861 low in between). Keep kLodFracBits of fraction.
+    uint32_t bits;
+    std::memcpy(&bits, &x, 4);
+    int32_t l = int32_t(bits) - (127 << 23);
+    return l >> (23 - kLodFracBits);  // arithmetic shift: floor
+}
+
+int32_t quadLambda(const std::array<glm::vec4, 4>& c, const std::array<int, 4>& size, int dims) {
+    // Differences along x (pixel 1 − pixel 0) and y (pixel 2 − pixel 0) in texels of the
+    // base level: one λ per quad, as the period hardware computed it.
+    float dx2 = 0.0f, dy2 = 0.0f;
+    for (int d = 0; d < dims; ++d) {
+        const float n = float(size[size_t(d)]);
+        const float dx = (c[1][d] - c[0][d]) * n;
+        const float dy = (c[2][d] - c[0][d]) * n;
+        dx2 = dx2 + dx * dx;
+        dy2 = dy2 + dy * dy;
+    }
+    const float rho2 = std::max(dx2, dy2);
+    const int32_t l = log2Fixed(rho2);
+    // λ = log2 ρ = ½ log2 ρ²; the arithmetic shift floors.
+    return l <= kLambdaZero ? kLambdaZero : (l >> 1);
+}
+
+int32_t biasAndClampLambda(int32_t lambda, const SamplerState& s) {
+    int32_t l = lambda + fixedFromFloat(s.lodBias);
+    return std::clamp(l, fixedFromFloat(s.minLod), std::max(fixedFromFloat(s.minLod), fixedFromFloat(s.maxLod)));
+}
+
+LevelChoice chooseLevels(const Texture& t, const SamplerState& s, int32_t lambda) {
+    const int last = t.levels() - 1;
+    const int base = std::clamp(s.baseLevel, 0, last);
+    const int q = std::max(base, std::min(last, s.maxLevel));
+    // GL 1.2 §3.8.8: c = 0.5 when magnifying LINEAR against a NEAREST_MIPMAP_* min filter,
+    // so that the switch-over is continuous; 0 otherwise.
+    const int32_t c = (s.magFilter == FilterMode::Linear && s.minFilter == FilterMode::Nearest &&
+                       s.mipFilter != MipMode::None)
+                          ? kLodOne / 2
+                          : 0;
+    if (lambda <= c) return {s.magFilter, base, base, 0, false};
+    switch (s.mipFilter) {
+        case MipMode::None: return {s.minFilter, base, base, 0, false};
+        case MipMode::Nearest: {
+            // d = ceil(λ + ½) − 1: half-integer λ rounds down.
+            int64_t d = int64_t(base) + ((int64_t(lambda) + (kLodOne / 2 - 1)) >> kLodFracBits);
+            int lvl = int(std::min<int64_t>(d, q));
+            return {s.minFilter, lvl, lvl, 0, false};
+        }
+        case MipMode::Linear: {
+            if (int64_t(lambda) >= int64_t(q - base) * kLodOne) return {s.minFilter, q, q, 0, false};
+            int d1 = base + (lambda >> kLodFracBits);
+            return {s.minFilter, d1, d1 + 1, lambda & (kLodOne - 1), true};
+        }
+    }
+    return {s.magFilter, base, base, 0, false};
+}
+
+}  // namespace rg::tex
