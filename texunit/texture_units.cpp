@@ -208,7 +208,7 @@ void TextureUnits::validate(const Profile& p) const {
                 default: break;
             }
             if (t.isFloat()) p.require(Feature::FloatTexture);
-            if (texGen_[s.texCoordIndex].matrixEnabled &&
+            if (texGen_[s.texCoordIndex].projected &&
                 t.desc().target != TextureTarget::CubeMap && t.desc().target != TextureTarget::Texture4D)
                 p.require(Feature::ProjectedTexture);
         }
@@ -257,11 +257,15 @@ void TextureUnits::projectQuad(int i, const FragmentQuad& quad, std::array<glm::
             lambda = quadLambda(c, t.levelSize(base), 4);
             break;
         default:
-            // The projective divide (GL: always; D3D7: D3DTTFF_PROJECTED with the divisor
-            // placed in q by the texture matrix). x/1 is exact, so q = 1 changes nothing.
-            for (int p = 0; p < 4; ++p) {
-                const glm::vec4& v = in[size_t(p)];
-                c[size_t(p)] = glm::vec4(v.x / v.w, v.y / v.w, v.z / v.w, 0.0f);
+            // The projective divide when the set is projected (GL: always; D3D7:
+            // D3DTTFF_PROJECTED with the divisor placed in q by the texture matrix).
+            if (texGen_[u.stage.texCoordIndex].projected) {
+                for (int p = 0; p < 4; ++p) {
+                    const glm::vec4& v = in[size_t(p)];
+                    c[size_t(p)] = glm::vec4(v.x / v.w, v.y / v.w, v.z / v.w, 0.0f);
+                }
+            } else {
+                for (int p = 0; p < 4; ++p) c[size_t(p)] = glm::vec4(glm::vec3(in[size_t(p)]), 0.0f);
             }
             lambda = quadLambda(c, t.levelSize(base), t.dims());
             break;

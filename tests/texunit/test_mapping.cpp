@@ -155,6 +155,7 @@ TEST(ParaboloidMapping, DirectSamplerMatchesTheTwoPassHardwareWay) {
         TexGenState g;
         g.matrixEnabled = true;
         g.matrix = paraboloidTextureMatrix(side);
+        g.projected = true;
         tu.setTexGen(0, g);
         VertexEye v{};
         glm::vec4 tc = tu.processVertexTexCoord(0, v, glm::vec4(r, 1.0f));

@@ -124,12 +124,14 @@ TEST(TextureUnits, TextureMatrixQDivideAndGeneratedCoordinates) {
     g.matrixEnabled = true;
     g.matrix = glm::mat4(0.5f);  // (x, y, z, 1) → ½(x, y, z, 1)
     tu.setTexGen(2, g);
+    TexGenState projected;
+    projected.projected = true;
+    tu.setTexGen(0, projected);
     VertexEye v{};
     v.eyePosition = {2, 4, 6, 1};
     EXPECT_EQ(tu.processVertexTexCoord(2, v, glm::vec4(9)), glm::vec4(1, 2, 3, 0.5f));
     EXPECT_EQ(tu.processVertexTexCoord(0, v, glm::vec4(9)), glm::vec4(9));
-    // q divide at the pixel: (s, t, q) = (0.25, 0.25, 0.5) reads texel (8, 8) at the
-    // level-0 centre... (s/q = 0.53125 → texel 8 of 16).
+    // q divide at the pixel on a projected set: s/q = 0.53125 → texel 8 of 16.
     tu.setTexture(0, fx.tex2d);
     SamplerState s;
     s.magFilter = s.minFilter = FilterMode::Nearest;
@@ -138,6 +140,11 @@ TEST(TextureUnits, TextureMatrixQDivideAndGeneratedCoordinates) {
     FragmentQuad q;
     for (auto& c : q.texCoord[0]) c = {0.265625f, 0.265625f, 0, 0.5f};
     std::array<Rgba8, 4> out;
+    tu.shadeQuad(q, out, Path::Reference);
+    EXPECT_EQ(out[0], (Rgba8{128, 128, 0, 255 - 64}));
+    // Not projected (the Direct3D 7 default): q is ignored, even q = 0.
+    tu.setTexGen(0, TexGenState{});
+    for (auto& c : q.texCoord[0]) c = {0.53125f, 0.53125f, 0, 0};
     tu.shadeQuad(q, out, Path::Reference);
     EXPECT_EQ(out[0], (Rgba8{128, 128, 0, 255 - 64}));
 }

@@ -36,6 +36,11 @@ struct TexGenState {
     // column vector (s, t, r, q) when enabled; projection (the q divide) happens per pixel.
     bool matrixEnabled = false;
     glm::mat4 matrix{1.0f};
+    // The per-pixel divide of (s, t, r) by q for 1D/2D/3D textures: D3DTTFF_PROJECTED in
+    // Direct3D 7 (off by default, so two-component coordinates with q = 0 are fine);
+    // OpenGL always divides, so GL-style code sets it and submits q = 1. Cube maps
+    // ignore it (a direction needs no divide) and 4D textures use q as a coordinate.
+    bool projected = false;
 };
 
 // Generation then the texture matrix. `in` is the vertex's submitted coordinate set.
