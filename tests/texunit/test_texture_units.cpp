@@ -57,6 +57,19 @@ TEST(TextureUnits, DefaultIsPassThrough) {
     EXPECT_NO_THROW(tu.validate(profile(ProfileId::SgiO2)));
 }
 
+TEST(TextureUnits, UnboundTextureReadsWhite) {
+    TextureUnits tu;
+    tu.setStage(0, op(TextureOp::SelectArg1, arg::Texture, arg::Current, TextureOp::SelectArg1));
+    FragmentQuad q;
+    q.diffuse.fill(Rgba8{1, 2, 3, 4});
+    std::array<Rgba8, 4> out;
+    tu.shadeQuad(q, out, Path::Reference);
+    EXPECT_EQ(out[0], (Rgba8{255, 255, 255, 255}));
+    tu.setStage(0, op(TextureOp::Modulate, arg::Texture, arg::Diffuse, TextureOp::Modulate));
+    tu.shadeQuad(q, out, Path::Fast);
+    EXPECT_EQ(out[3], (Rgba8{1, 2, 3, 4}));
+}
+
 TEST(TextureUnits, CoordinateSetsUsedFollowTheStagesThatReadTextures) {
     Fixture fx;
     TextureUnits tu;
