@@ -71,8 +71,9 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     ++counters.drawCalls;
     if (passOpen) ++passes.back().drawCalls;
 
-    const DrawContext dc = makeDrawContext(state, fb, textureUnits, options.path, space, viewport,
-                                           scissor, profile.subpixelBits);
+    DrawContext dc = makeDrawContext(state, fb, textureUnits, options.path, space, viewport,
+                                     scissor, profile.subpixelBits);
+    if (fragmentObserver) dc.fragmentObserver = &fragmentObserver;
     const glm::mat4 worldView = view * world;
     const glm::mat4 worldViewProj = projection * worldView;
     const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(worldView)));
@@ -99,7 +100,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
 
     GeometryCounters gc;
     RasterCounters rc;
-    if (options.path == Path::Reference) {
+    if (options.path == Path::Reference || dc.fragmentObserver) {
         processRange(0, vertices.size());
         std::vector<SetupTriangle> tris;
         setupRange(0, triangles, tris, gc);
@@ -209,6 +210,10 @@ void Device::beginPass(std::string label) {
 }
 
 const std::vector<PassRecord>& Device::passes() const { return impl_->passes; }
+void Device::setFragmentObserver(FragmentObserver observer) {
+    impl_->fragmentObserver = std::move(observer);
+}
+
 void Device::setPassObserver(std::function<void(const PassRecord&, const Framebuffer&)> observer) {
     impl_->observer = std::move(observer);
 }

@@ -26,6 +26,7 @@ struct Device::Impl {
     std::vector<PassRecord> passes;
     bool passOpen = false;
     std::function<void(const PassRecord&, const Framebuffer&)> observer;
+    Device::FragmentObserver fragmentObserver;
     std::unique_ptr<tbb::task_arena> arena;
 
     Impl(const Profile& p, int w, int h, DepthFormat d, DeviceOptions o)

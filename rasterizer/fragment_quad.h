@@ -61,11 +61,12 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, int qx, i
     }
 
     // ---- texture stages (texunit/) ------------------------------------------------------
+    const bool observed = !kSpecialized && dc.fragmentObserver != nullptr;
     std::array<Rgba8, 4> color;
-    if (passThrough) {
+    tex::FragmentQuad q;
+    if (passThrough && !observed) {
         color = diffuse;
     } else {
-        tex::FragmentQuad q;
         q.x = qx;
         q.y = qy;
         q.coverage = uint8_t(coverage);
@@ -76,12 +77,16 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, int qx, i
                 for (int c = 0; c < 4; ++c)
                     q.texCoord[dc.texSets[k]][i][c] =
                         t.attr[kColorAttrs + 4 * k + c].at(fx[i], fy[i]) * r[i];
-        dc.tu->shadeQuad(q, color, dc.path);
+        if (passThrough)
+            color = diffuse;
+        else
+            dc.tu->shadeQuad(q, color, dc.path);
     }
 
     // ---- per-fragment operations --------------------------------------------------------
     Framebuffer& fb = *dc.fb;
     const int width = fb.width();
+    unsigned written = 0;
     for (int i = 0; i < 4; ++i) {
         if (!(coverage & (1u << i))) continue;
         const int px = qx + (i & 1), py = qy + (i >> 1);
@@ -99,6 +104,7 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, int qx, i
             if (st.depthWrite) stored = q;
         }
         ++rc.written;
+        written |= 1u << i;
         Rgba8& dst = fb.color()[idx];
         if (blendOn) {
             c = blendPixel(st.srcBlend, st.dstBlend, st.blendOp, c, dst);
@@ -106,6 +112,7 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, int qx, i
         }
         dst = applyWriteMask(st.colorWriteMask, c, dst);
     }
+    if (observed) (*dc.fragmentObserver)(q, uint8_t(written));
 }
 
 }  // namespace rg::raster::detail

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -69,6 +70,8 @@ struct DrawContext {
     // Clip planes (inside: dot(plane, clip) ≥ 0): near, far, guard band left, right,
     // top, bottom.
     std::array<glm::vec4, 6> planes{};
+    // Device::setFragmentObserver hook; only the reference raster loop calls it.
+    const std::function<void(const tex::FragmentQuad&, uint8_t)>* fragmentObserver = nullptr;
 };
 
 // a(x, y) = c + dx·fx + dy·fy with fx = (x + ½) − x0 and fy = (y + ½) − y0 relative to

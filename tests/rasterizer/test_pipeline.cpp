@@ -222,6 +222,35 @@ TEST(Passes, ObserverSeesEachPassOnce) {
     EXPECT_TRUE(dev.passes().empty());
 }
 
+// The instrumentation hook sees every rasterized quad once, with the written pixels.
+TEST(FragmentObserver, SeesEveryQuadAndTheWrittenPixels) {
+    for (Path path : {Path::Reference, Path::Fast}) {
+        Device dev(geforce256(), 16, 16, DepthFormat::D16, {path, 2});
+        PipelineState s = plainState();
+        s.depthTest = 1;
+        s.depthFunc = CompareFunc::Less;
+        dev.setState(s);
+        dev.clear(true, {}, true, 0.5f);
+        uint64_t quads = 0, written = 0;
+        dev.setFragmentObserver([&](const tex::FragmentQuad& q, uint8_t passed) {
+            ++quads;
+            EXPECT_EQ(passed & ~q.coverage, 0);
+            written += uint64_t(__builtin_popcount(passed));
+        });
+        // Left half in front of the cleared depth, right half behind it.
+        std::vector<Vertex> a = {tv(0, 0, 0.25f), tv(8, 0, 0.25f), tv(8, 16, 0.25f), tv(0, 16, 0.25f)};
+        std::vector<Vertex> b = {tv(8, 0, 0.75f), tv(16, 0, 0.75f), tv(16, 16, 0.75f), tv(8, 16, 0.75f)};
+        dev.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, a);
+        dev.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, b);
+        EXPECT_EQ(written, 128u);
+        EXPECT_EQ(written, dev.counters().fragmentsWritten);
+        EXPECT_GE(quads, 64u);  // 2 × 32 quads, plus quads split between two triangles
+        dev.setFragmentObserver({});
+        dev.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, a);
+        EXPECT_EQ(written, 128u);
+    }
+}
+
 // ---- refused input ---------------------------------------------------------------------
 TEST(BadInput, ImpossibleStateIsRefusedWithItsName) {
     EXPECT_THROW(Device(geforce256(), 0, 8, DepthFormat::None), InvalidState);

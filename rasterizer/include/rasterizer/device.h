@@ -77,6 +77,13 @@ class Device {
     const std::vector<PassRecord>& passes() const;
     // Optional hook run after each pass ends (next beginPass or endFrame): pass inspector.
     void setPassObserver(std::function<void(const PassRecord&, const Framebuffer&)> observer);
+    // Optional instrumentation hook (the PEM rendering matrix): called for every rasterized
+    // 2×2 quad with its FragmentQuad (attributes as the texture units saw them) and the
+    // mask of pixels that passed the alpha and depth tests and were written. While set,
+    // draws rasterize in the reference order on the calling thread, so the calls come in
+    // submission order; the bytes are the same as on either path. Empty function: off.
+    using FragmentObserver = std::function<void(const tex::FragmentQuad&, uint8_t passed)>;
+    void setFragmentObserver(FragmentObserver observer);
     void endFrame();
 
     // ---- commands -----------------------------------------------------------------------
