@@ -39,9 +39,10 @@ void setRay(RTCRayHit& rh, const Ray& r) {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
-// Embree's Ng is cross(v0 − v1, v2 − v0), which points to the side where the vertices run
-// clockwise; our meshes wind counter-clockwise seen from outside, so we negate it.
-inline glm::vec3 outwardNg(float x, float y, float z) { return {-x, -y, -z}; }
+// Embree's unnormalized Ng points to the side from which the vertices appear
+// counter-clockwise, as our meshes wind seen from outside: it is the outward normal
+// (checked by Accel.RayAtUnitSphereHitsAtTheKnownDistance).
+inline glm::vec3 outwardNg(float x, float y, float z) { return {x, y, z}; }
 
 struct CollectContext {
     RTCIntersectContext context;  // first member: Embree passes a pointer to it

@@ -20,24 +20,6 @@ std::filesystem::path dataDir() {
 
 namespace {
 
-Mesh extractPart(const Mesh& m, const MeshPart& p) {
-    Mesh out;
-    out.name = p.name;
-    std::vector<int> remap(m.positions.size(), -1);
-    for (uint32_t t = p.firstTriangle; t < p.firstTriangle + p.triangleCount; ++t)
-        for (int k = 0; k < 3; ++k) {
-            uint32_t v = m.indices[size_t(t) * 3 + k];
-            if (remap[v] < 0) {
-                remap[v] = int(out.positions.size());
-                out.positions.push_back(m.positions[v]);
-                out.normals.push_back(m.normals[v]);
-                out.uvs.push_back(m.uvs[v]);
-            }
-            out.indices.push_back(uint32_t(remap[v]));
-        }
-    return out;
-}
-
 Material diffuseMaterial(const std::string& name, glm::vec3 color, int texture = -1) {
     Material m;
     m.name = name;
@@ -85,7 +67,7 @@ uint32_t addFloor(Scene& scene, float half, float y) {
         texture("floor_checker", TextureKind::Checker, {0.85f, 0.85f, 0.8f}, {0.15f, 0.15f, 0.2f}, 1.0f));
     uint32_t mat = scene.addMaterial(diffuseMaterial("floor", glm::vec3(1.0f), int(tex)));
     Mesh room = makeRoom({-half, y, -half}, {half, y + 1.0f, half}, 1.0f);
-    Mesh floor = extractPart(room, room.parts[0]);
+    Mesh floor = extractPart(room, 0);
     floor.source = room.source;
     floor.source.params["part"] = 0;
     return scene.addObject("floor", scene.addMesh(floor), mat);
@@ -126,7 +108,7 @@ uint32_t addRoom(Scene& scene, glm::vec3 lo, glm::vec3 hi, const std::string& pr
     uint32_t first = uint32_t(scene.objects.size());
     for (const auto& l : looks) {
         int pi = room.findPart(l.part);
-        Mesh part = extractPart(room, room.parts[size_t(pi)]);
+        Mesh part = extractPart(room, uint32_t(pi));
         part.name = prefix + l.part;
         part.source = room.source;
         part.source.params["part"] = pi;

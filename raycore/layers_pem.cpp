@@ -133,7 +133,7 @@ PemLayerImages renderPemLayers(const Accel& accel, const Camera& camera, const R
                     a.fresnel += F;
                     // The first reflected ray: local if it strikes the reflector again.
                     Ray r;
-                    r.dir = reflectDir(ray.dir, nrm);
+                    r.dir = mirrorDirection(s, ray.dir);
                     r.origin = accel.offsetOrigin(s, r.dir);
                     counts.add(RayKind::Reflection);
                     Hit h2 = accel.intersect(r);

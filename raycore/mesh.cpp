@@ -128,6 +128,25 @@ void appendMesh(Mesh& mesh, const Mesh& otherIn, const std::string& partName) {
     }
 }
 
+Mesh extractPart(const Mesh& m, uint32_t partIndex) {
+    const MeshPart& p = m.parts.at(partIndex);
+    Mesh out;
+    out.name = p.name;
+    std::vector<int> remap(m.positions.size(), -1);
+    for (uint32_t t = p.firstTriangle; t < p.firstTriangle + p.triangleCount; ++t)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t v = m.indices[size_t(t) * 3 + k];
+            if (remap[v] < 0) {
+                remap[v] = int(out.positions.size());
+                out.positions.push_back(m.positions[v]);
+                if (!m.normals.empty()) out.normals.push_back(m.normals[v]);
+                if (!m.uvs.empty()) out.uvs.push_back(m.uvs[v]);
+            }
+            out.indices.push_back(uint32_t(remap[v]));
+        }
+    return out;
+}
+
 Bounds computeBounds(const Mesh& mesh) {
     Bounds b;
     for (const glm::vec3& p : mesh.positions) {

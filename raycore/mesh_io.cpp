@@ -18,10 +18,11 @@ Mesh loadMesh(const std::filesystem::path& path) {
     if (!std::filesystem::exists(path, ec)) throw Error(file + ": mesh file not found");
     if (std::filesystem::file_size(path, ec) == 0) throw Error(file + ": mesh file is empty");
     Assimp::Importer importer;
-    // No JoinIdenticalVertices: keep the file's vertices so seams and parts survive;
-    // GenSmoothNormals only where the file has no normals.
-    const aiScene* s = importer.ReadFile(
-        file, aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_SortByPType);
+    // JoinIdenticalVertices rebuilds the shared vertices OBJ faces index (it keeps seams:
+    // vertices differing in normal or uv stay apart); GenSmoothNormals only acts where the
+    // file has no normals.
+    const aiScene* s = importer.ReadFile(file, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                                   aiProcess_GenSmoothNormals | aiProcess_SortByPType);
     if (!s || (s->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || s->mNumMeshes == 0)
         throw Error(file + ": cannot read mesh (" +
                     (s ? std::string("no meshes in the file") : std::string(importer.GetErrorString())) +

@@ -130,17 +130,7 @@ Mesh meshFromSource(const Ctx& c, const MeshSource& s, const std::string& where)
         if (p.count("part")) {
             int pi = int(p.at("part"));
             if (pi < 0 || pi >= int(m.parts.size())) c.fail(where + ": room part out of range");
-            Mesh sub;
-            const MeshPart& part = m.parts[size_t(pi)];
-            for (uint32_t t = part.firstTriangle; t < part.firstTriangle + part.triangleCount; ++t)
-                for (int k = 0; k < 3; ++k) {
-                    uint32_t v = m.indices[size_t(t) * 3 + k];
-                    sub.indices.push_back(uint32_t(sub.positions.size()));
-                    sub.positions.push_back(m.positions[v]);
-                    sub.normals.push_back(m.normals[v]);
-                    sub.uvs.push_back(m.uvs[v]);
-                }
-            sub.name = part.name;
+            Mesh sub = extractPart(m, uint32_t(pi));
             m = std::move(sub);
         }
     } else if (s.kind == "teapot") {

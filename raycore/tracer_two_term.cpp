@@ -53,7 +53,7 @@ void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEv
         glm::vec3 next;
         if (m.type == MaterialType::Mirror) {
             path.F *= mirrorReflectance(m, cosI);
-            next = reflectDir(ray.dir, n);
+            next = mirrorDirection(p, ray.dir);
             path.events.push_back(PathEvent::Reflect);
             kind = RayKind::Reflection;
         } else {
@@ -65,7 +65,7 @@ void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEv
             // Greedy: the child with the greater coefficient (ties go to reflection).
             if (FR >= 1.0f - FR) {
                 path.F *= FR;
-                next = reflectDir(ray.dir, n);
+                next = mirrorDirection(p, ray.dir);
                 path.events.push_back(PathEvent::Reflect);
                 kind = RayKind::Reflection;
             } else {
@@ -103,7 +103,7 @@ TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, int maxDepth,
     out.direct = diffuseLighting(accel, s, primary.dir, counts);
     const glm::vec3 n = s.frontFace ? s.ns : -s.ns;
     const float cosI = std::max(0.0f, -glm::dot(primary.dir, n));
-    const glm::vec3 r = reflectDir(primary.dir, n);
+    const glm::vec3 r = mirrorDirection(s, primary.dir);
     if (m.type == MaterialType::Mirror) {
         followPath(accel, s, r, PathEvent::Reflect, mirrorReflectance(m, cosI), maxDepth, counts,
                    out.reflect);

@@ -46,6 +46,14 @@ glm::vec3 diffuseLighting(const Accel& accel, const SurfacePoint& s, glm::vec3 v
     return albedo * e;
 }
 
+glm::vec3 mirrorDirection(const SurfacePoint& s, glm::vec3 dir) {
+    const glm::vec3 ngSide = s.frontFace ? s.ng : -s.ng;
+    const glm::vec3 nsSide = s.frontFace ? s.ns : -s.ns;
+    glm::vec3 r = reflectDir(dir, nsSide);
+    if (glm::dot(r, ngSide) <= 0.0f) r = reflectDir(dir, ngSide);
+    return r;
+}
+
 glm::vec3 whittedRadiance(const Accel& accel, const Ray& ray, int depth, int maxDepth,
                           RayCounts& counts) {
     return whittedShade(accel, ray, accel.intersect(ray), depth, maxDepth, counts);
@@ -71,7 +79,7 @@ glm::vec3 whittedShade(const Accel& accel, const Ray& ray, const Hit& hit, int d
     };
     if (m.type == MaterialType::Mirror) {
         glm::vec3 F = mirrorReflectance(m, cosI);
-        if (F != glm::vec3(0.0f)) L += F * child(reflectDir(ray.dir, n), RayKind::Reflection);
+        if (F != glm::vec3(0.0f)) L += F * child(mirrorDirection(s, ray.dir), RayKind::Reflection);
         return L;
     }
     // Glass: both children, weighted by F̂_R and F̂_T = 1 − F̂_R.
@@ -80,7 +88,7 @@ glm::vec3 whittedShade(const Accel& accel, const Ray& ray, const Hit& hit, int d
     glm::vec3 t;
     if (!refractDir(ray.dir, n, etaI / etaT, &t)) FR = 1.0f;  // TIR: only the reflection
     glm::vec3 Lg(0.0f);
-    if (FR > 0.0f) Lg += FR * child(reflectDir(ray.dir, n), RayKind::Reflection);
+    if (FR > 0.0f) Lg += FR * child(mirrorDirection(s, ray.dir), RayKind::Reflection);
     if (FR < 1.0f) Lg += (1.0f - FR) * child(t, RayKind::Refraction);
     L += Lg;
     // Arriving at a back face means this segment ran inside the glass: attenuate what

@@ -58,6 +58,10 @@ void completeMesh(Mesh& mesh);
 // condition for a mesh to bound a volume of glass.
 bool isClosedManifold(const Mesh& mesh);
 
+// The triangles of one part as a mesh of their own (vertices renumbered, shared ones kept
+// shared).
+Mesh extractPart(const Mesh& mesh, uint32_t partIndex);
+
 // Appends `other` (its parts keep their names; a mesh without parts becomes one part named
 // after it).
 void appendMesh(Mesh& mesh, const Mesh& other, const std::string& partName = {});

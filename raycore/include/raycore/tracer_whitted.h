@@ -25,6 +25,12 @@ glm::vec3 diffuseLighting(const Accel& accel, const SurfacePoint& s, glm::vec3 v
                           RayCounts& counts);
 glm::vec3 diffuseAlbedo(const Scene& scene, const SurfacePoint& s);
 
+// The mirror direction at a surface point for a ray arriving along `dir`, about the
+// shading normal — unless that would send the ray below the geometric surface (possible
+// near silhouettes, where interpolated normals lean away from the flat triangle); then
+// about the geometric normal, so a convex mirror never reflects into itself.
+glm::vec3 mirrorDirection(const SurfacePoint& s, glm::vec3 dir);
+
 // An RGB image, the n×n samples of each pixel averaged with equal weights.
 Image renderWhitted(const Accel& accel, const Camera& camera, const RenderOptions& options);
 

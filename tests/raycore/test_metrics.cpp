@@ -1,0 +1,90 @@
+// Metrics with hand-computed values, and image files round-tripping.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "raycore/metrics.h"
+#include "test_util.h"
+
+namespace rg::ray {
+namespace {
+
+Image ramp(int w, int h) {
+    Image img(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            img.setRgb(x, y, {float(x) / w, float(y) / h, float((x * 7 + y * 3) % 11) / 10.0f});
+    return img;
+}
+
+TEST(Metrics, PsnrOfAConstantOffset) {
+    Image a(16, 16, 3, 0.5f), b(16, 16, 3, 0.6f);
+    EXPECT_NEAR(meanSquaredError(a, b), 0.01, 1e-8);
+    EXPECT_NEAR(psnr(a, b), 20.0, 1e-4);  // 10·log10(1/0.01)
+    EXPECT_TRUE(std::isinf(psnr(a, a)));
+    EXPECT_THROW(psnr(a, Image(8, 8, 3)), Error);
+}
+
+TEST(Metrics, SsimIsOneForEqualImagesAndLowerOtherwise) {
+    Image a = ramp(40, 30);
+    EXPECT_NEAR(ssim(a, a), 1.0, 1e-9);
+    Image noisy = a;
+    for (size_t i = 0; i < noisy.pixels.size(); ++i) noisy.pixels[i] += (i % 2 ? 0.1f : -0.1f);
+    double s = ssim(a, noisy);
+    EXPECT_LT(s, 0.99);
+    EXPECT_GT(s, 0.0);
+    // Small images fall back to one global window.
+    Image t1 = ramp(5, 5);
+    EXPECT_NEAR(ssim(t1, t1), 1.0, 1e-9);
+}
+
+TEST(Metrics, ErrorStatsMeanP95Max) {
+    // 100 pixels: 90 exact, 9 off by 0.1, 1 off by 0.5 (in every channel).
+    Image a(10, 10, 3, 0.0f), b(10, 10, 3, 0.0f);
+    for (int i = 90; i < 99; ++i) b.setRgb(i % 10, i / 10, glm::vec3(0.1f));
+    b.setRgb(9, 9, glm::vec3(0.5f));
+    ErrorStats s = compareImages(a, b);
+    EXPECT_NEAR(s.mean, (9 * 0.1 + 0.5) / 100.0, 1e-6);
+    EXPECT_NEAR(s.p95, 0.1, 1e-6);  // the 95th of 100 sorted errors
+    EXPECT_NEAR(s.max, 0.5, 1e-6);
+    std::string json = errorStatsJson(s);
+    for (const char* key : {"\"mean\"", "\"p95\"", "\"max\"", "\"psnr\"", "\"ssim\""})
+        EXPECT_NE(json.find(key), std::string::npos) << key;
+    auto dir = test::tempDir("metrics");
+    writeErrorStatsJson(dir / "m.json", s);
+    std::ifstream in(dir / "m.json");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    EXPECT_EQ(ss.str(), json + "\n");
+    Image heat = errorHeatMap(a, b);
+    EXPECT_EQ(heat.rgb(0, 0), glm::vec3(0.0f));       // no error: black
+    EXPECT_EQ(heat.rgb(9, 9), glm::vec3(1.0f));       // the maximum: white
+}
+
+TEST(ImageIO, PngQuantizesByRoundingAndEXRKeepsFloats) {
+    auto dir = test::tempDir("image_io");
+    Image a(4, 2, 3);
+    const float values[] = {0.0f, 1.0f, 0.5f, 0.25f, 2.0f, -1.0f, 0.999f, 0.001f};
+    for (int i = 0; i < 8; ++i) a.setRgb(i % 4, i / 4, glm::vec3(values[i], 0.3f, 0.7f));
+    writeImage(dir / "a.png", a);
+    Image p = readImage(dir / "a.png");
+    ASSERT_EQ(p.width, 4);
+    ASSERT_EQ(p.channels, 3);
+    for (int i = 0; i < 8; ++i)
+        EXPECT_EQ(quantize8(p.at(i % 4, i / 4, 0)), quantize8(values[i])) << values[i];
+    EXPECT_EQ(quantize8(0.5f), 128);
+    EXPECT_EQ(quantize8(2.0f), 255);
+    EXPECT_EQ(quantize8(-1.0f), 0);
+    EXPECT_EQ(quantize8(std::nanf("")), 0);
+    writeImage(dir / "a.exr", a);
+    Image e = readImage(dir / "a.exr");
+    EXPECT_EQ(e.pixels, a.pixels);
+    writeImage(dir / "a.hdr", a);
+    EXPECT_EQ(readImage(dir / "a.hdr").width, 4);
+}
+
+}  // namespace
+}  // namespace rg::ray

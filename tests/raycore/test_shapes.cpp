@@ -1,0 +1,104 @@
+// Procedural shapes: closed, oriented outwards, normals consistent with winding.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "raycore/builtin_scenes.h"
+#include "raycore/mesh_io.h"
+#include "raycore/shapes.h"
+
+namespace rg::ray {
+namespace {
+
+// Signed volume by the divergence theorem: positive when triangles wind outwards.
+double signedVolume(const Mesh& m) {
+    double v = 0.0;
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        glm::dvec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
+                   c = m.positions[m.indices[3 * t + 2]];
+        v += glm::dot(a, glm::cross(b, c)) / 6.0;
+    }
+    return v;
+}
+
+double windingAgreement(const Mesh& m) {
+    int agree = 0, total = 0;
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        glm::vec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
+                  c = m.positions[m.indices[3 * t + 2]];
+        glm::vec3 ng = glm::cross(b - a, c - a);
+        if (glm::length(ng) == 0.0f) continue;
+        glm::vec3 ns = m.normals[m.indices[3 * t]] + m.normals[m.indices[3 * t + 1]] +
+                       m.normals[m.indices[3 * t + 2]];
+        ++total;
+        agree += glm::dot(ng, ns) > 0.0f;
+    }
+    return total ? double(agree) / total : 0.0;
+}
+
+TEST(Shapes, SphereIsClosedWithTheRightVolume) {
+    Mesh m = makeSphere(1.0f, 128, 64);
+    EXPECT_TRUE(isClosedManifold(m));
+    EXPECT_NEAR(signedVolume(m), 4.0 / 3.0 * std::numbers::pi, 0.01);
+    EXPECT_EQ(windingAgreement(m), 1.0);
+}
+
+TEST(Shapes, CubeTorusCylinderAreClosedAndOutward) {
+    Mesh cube = makeCube(1.0f);
+    EXPECT_TRUE(isClosedManifold(cube));
+    EXPECT_NEAR(signedVolume(cube), 8.0, 1e-5);
+    EXPECT_EQ(windingAgreement(cube), 1.0);
+    Mesh torus = makeTorus(1.0f, 0.25f, 128, 64);
+    EXPECT_TRUE(isClosedManifold(torus));
+    // 2π²Rr²
+    EXPECT_NEAR(signedVolume(torus), 2.0 * std::numbers::pi * std::numbers::pi * 0.0625, 0.005);
+    EXPECT_EQ(windingAgreement(torus), 1.0);
+    Mesh cyl = makeCylinder(0.5f, 2.0f, 256);
+    EXPECT_TRUE(isClosedManifold(cyl));
+    EXPECT_NEAR(signedVolume(cyl), std::numbers::pi * 0.25 * 2.0, 0.002);
+    EXPECT_EQ(windingAgreement(cyl), 1.0);
+}
+
+TEST(Shapes, ChessPiecesAndCupAreClosedSolids) {
+    for (const char* k : {"pawn", "rook", "knight", "bishop", "queen", "king"}) {
+        Mesh m = makeChessPiece(k);
+        EXPECT_TRUE(isClosedManifold(m)) << k;
+        EXPECT_GT(signedVolume(m), 0.0) << k;
+        EXPECT_EQ(windingAgreement(m), 1.0) << k;
+    }
+    Scene s;
+    s.materials.push_back({});
+    addCup(s, 0, glm::mat4(1.0f));
+    EXPECT_TRUE(isClosedManifold(s.meshes[0]));
+    EXPECT_GT(signedVolume(s.meshes[0]), 0.0);
+}
+
+TEST(Shapes, ChessSceneHas32PiecesAndASphere) {
+    Scene s = makeBuiltinScene("chess");
+    int pieces = 0;
+    for (const Object& o : s.objects)
+        if (o.name.rfind("white_", 0) == 0 || o.name.rfind("black_", 0) == 0) ++pieces;
+    EXPECT_EQ(pieces, 32);
+    EXPECT_GE(s.findObject("glass_sphere"), 0);
+    EXPECT_GE(s.findObject("board"), 0);
+    EXPECT_TRUE(validateScene(s).empty());  // every glass piece is closed
+}
+
+TEST(Shapes, RoomFacesPointInwards) {
+    Mesh room = makeRoom({-1, 0, -2}, {3, 4, 5});
+    EXPECT_EQ(room.parts.size(), 6u);
+    EXPECT_TRUE(isClosedManifold(room));
+    EXPECT_LT(signedVolume(room), 0.0);  // seen from inside
+    EXPECT_EQ(windingAgreement(room), 1.0);
+}
+
+TEST(Shapes, BunnyLoadsClosed) {
+    Mesh m = loadMesh(dataDir() / "bunny.obj");
+    EXPECT_EQ(m.positions.size(), 1839u);
+    EXPECT_EQ(m.triangleCount(), 3674u);
+    EXPECT_TRUE(isClosedManifold(m));
+    EXPECT_GT(signedVolume(m), 0.0);
+}
+
+}  // namespace
+}  // namespace rg::ray
