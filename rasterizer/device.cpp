@@ -89,12 +89,13 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             processed[i] = processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
     };
     auto setupRange = [&](uint32_t b, uint32_t e, std::vector<SetupTriangle>& out,
-                          GeometryCounters& gc) {
+                          std::vector<Plane>& texPool, GeometryCounters& gc) {
+        out.reserve(out.size() + (e - b));
         for (uint32_t i = b; i < e; ++i) {
             auto tv = triangleVertices(primitive, i);
             uint32_t a = vertexOf(tv[0]), bb = vertexOf(tv[1]), c = vertexOf(tv[2]);
             clipAndSetup(dc, processed[a], processed[bb], processed[c], vertices[a].diffuse,
-                         vertices[a].specular, out, gc);
+                         vertices[a].specular, out, texPool, gc);
         }
     };
 
@@ -103,8 +104,9 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     if (options.path == Path::Reference || dc.fragmentObserver) {
         processRange(0, vertices.size());
         std::vector<SetupTriangle> tris;
-        setupRange(0, triangles, tris, gc);
-        rasterizeReference(dc, tris, rc);
+        std::vector<Plane> texPool;
+        setupRange(0, triangles, tris, texPool, gc);
+        rasterizeReference(dc, tris, texPool, rc);
     } else {
         // Fast path: vertices and triangle chunks in parallel (each writes only its own
         // output), then tiles in parallel; a tile walks the chunks and their triangles in
@@ -122,7 +124,8 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
                               });
             tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
                 TriangleChunk& ch = chunks[c];
-                setupRange(c * kChunk, std::min(triangles, (c + 1) * kChunk), ch.tris, ch.geometry);
+                setupRange(c * kChunk, std::min(triangles, (c + 1) * kChunk), ch.tris, ch.texPlanes,
+                           ch.geometry);
                 binChunk(ch, tilesX, tilesY);
             });
             tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {

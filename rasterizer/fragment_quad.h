@@ -3,8 +3,11 @@
 //
 // Shared by both paths. The template flags let the fast path compile the per-state
 // branches away; with kSpecialized = false every decision is read from the state at run
-// time (the reference path). Either way the arithmetic per pixel is the same sequence of
-// IEEE single/double operations and integer steps, so the bytes cannot differ.
+// time (the reference path). The fast path evaluates the four colour channels of a pixel
+// with SSE2: _mm_add_ps/_mm_mul_ps/_mm_max_ps/_mm_min_ps/_mm_cvttps_epi32 are the same
+// IEEE single operations, in the same order, as the scalar Plane::at and colorToByte, so
+// the bytes cannot differ (and tests/rasterizer/test_paths_agree.cpp checks that they
+// don't).
 //
 //      quad layout (FragmentQuad):   +---+---+
 //                                    | 0 | 1 |   pixel i at (x + (i & 1), y + (i >> 1))
@@ -13,22 +16,64 @@
 //                                    +---+---+
 #pragma once
 
+#include <emmintrin.h>
+
+#include <cstring>
+
 #include "pipeline.h"
 #include "rasterizer/fragment_ops.h"
 
 namespace rg::raster::detail {
 
+// Four channels of one pixel: plane evaluation, optional ·r, then colorToByte per lane.
+inline Rgba8 colorPlanesToBytesSse(const float* c, const float* dx, const float* dy, float fx,
+                                   float fy, bool perspective, float r) {
+    __m128 v = _mm_add_ps(_mm_add_ps(_mm_load_ps(c), _mm_mul_ps(_mm_load_ps(dx), _mm_set1_ps(fx))),
+                          _mm_mul_ps(_mm_load_ps(dy), _mm_set1_ps(fy)));
+    if (perspective) v = _mm_mul_ps(v, _mm_set1_ps(r));
+    v = _mm_max_ps(v, _mm_setzero_ps());     // v > 0 ? v : 0 (NaN → 0)
+    v = _mm_min_ps(v, _mm_set1_ps(255.0f));  // v < 255 ? v : 255
+    __m128i i = _mm_cvttps_epi32(_mm_add_ps(v, _mm_set1_ps(0.5f)));
+    i = _mm_packs_epi32(i, i);
+    i = _mm_packus_epi16(i, i);
+    uint32_t bits = uint32_t(_mm_cvtsi128_si32(i));
+    Rgba8 out;
+    std::memcpy(&out, &bits, 4);
+    return out;
+}
+
+// Blending with the factors as compile-time constants for the common modes, so the
+// factor switches fold away; every branch calls the one blendPixel definition.
+inline Rgba8 blendFast(const PipelineState& st, Rgba8 s, Rgba8 d) {
+    if (st.blendOp == BlendOp::Add) {
+        if (st.srcBlend == BlendFactor::SrcAlpha && st.dstBlend == BlendFactor::InvSrcAlpha)
+            return blendPixel(BlendFactor::SrcAlpha, BlendFactor::InvSrcAlpha, BlendOp::Add, s, d);
+        if (st.srcBlend == BlendFactor::One && st.dstBlend == BlendFactor::One)
+            return blendPixel(BlendFactor::One, BlendFactor::One, BlendOp::Add, s, d);
+        if (st.srcBlend == BlendFactor::DestColor && st.dstBlend == BlendFactor::Zero)
+            return blendPixel(BlendFactor::DestColor, BlendFactor::Zero, BlendOp::Add, s, d);
+        if (st.srcBlend == BlendFactor::Zero && st.dstBlend == BlendFactor::SrcColor)
+            return blendPixel(BlendFactor::Zero, BlendFactor::SrcColor, BlendOp::Add, s, d);
+        if (st.srcBlend == BlendFactor::One && st.dstBlend == BlendFactor::InvSrcAlpha)
+            return blendPixel(BlendFactor::One, BlendFactor::InvSrcAlpha, BlendOp::Add, s, d);
+        if (st.srcBlend == BlendFactor::SrcAlpha && st.dstBlend == BlendFactor::One)
+            return blendPixel(BlendFactor::SrcAlpha, BlendFactor::One, BlendOp::Add, s, d);
+    }
+    return blendPixel(st.srcBlend, st.dstBlend, st.blendOp, s, d);
+}
+
 template <bool kSpecialized, bool kDepth, bool kBlend, bool kPassThrough>
-inline void processQuad(const DrawContext& dc, const SetupTriangle& t, int qx, int qy,
-                        unsigned coverage, RasterCounters& rc) {
+inline void processQuad(const DrawContext& dc, const SetupTriangle& t, const Plane* texPool,
+                        int qx, int qy, unsigned coverage, RasterCounters& rc) {
     const bool depthOn = kSpecialized ? kDepth : dc.depthOn;
     const bool blendOn = kSpecialized ? kBlend : dc.st.blend != 0;
     const bool passThrough = kSpecialized ? kPassThrough : dc.passThrough;
     const PipelineState& st = dc.st;
+    const bool observed = !kSpecialized && dc.fragmentObserver != nullptr;
 
     // Helper pixels (coverage bit clear) are only interpolated when a texture stage needs
     // their derivatives; their values never reach the framebuffer.
-    const unsigned evalMask = passThrough ? coverage : 0xFu;
+    const unsigned evalMask = (passThrough && !observed) ? coverage : 0xFu;
 
     // ---- interpolation (docs/hardware.md, "Interpolation") -----------------------------
     float fx[4], fy[4], r[4] = {1, 1, 1, 1};
@@ -45,13 +90,22 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, int qx, i
     if (!dc.gouraud) {
         diffuse.fill(t.flatDiffuse);
         specular.fill(t.flatSpecular);
+    } else if constexpr (kSpecialized) {
+        for (int i = 0; i < 4; ++i) {
+            if (!(evalMask & (1u << i))) continue;
+            diffuse[i] = colorPlanesToBytesSse(&t.colorC[0], &t.colorDx[0], &t.colorDy[0], fx[i],
+                                               fy[i], dc.perspectiveColor, r[i]);
+            if (dc.needSpecular)
+                specular[i] = colorPlanesToBytesSse(&t.colorC[4], &t.colorDx[4], &t.colorDy[4],
+                                                    fx[i], fy[i], dc.perspectiveColor, r[i]);
+        }
     } else {
         const int colors = dc.needSpecular ? 8 : 4;
         for (int i = 0; i < 4; ++i) {
             if (!(evalMask & (1u << i))) continue;
             uint8_t c[8] = {0, 0, 0, 0, 0, 0, 0, 0};
             for (int a = 0; a < colors; ++a) {
-                float v = t.attr[a].at(fx[i], fy[i]);
+                float v = t.color(a).at(fx[i], fy[i]);
                 if (dc.perspectiveColor) v = v * r[i];
                 c[a] = colorToByte(v);
             }
@@ -61,7 +115,6 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, int qx, i
     }
 
     // ---- texture stages (texunit/) ------------------------------------------------------
-    const bool observed = !kSpecialized && dc.fragmentObserver != nullptr;
     std::array<Rgba8, 4> color;
     tex::FragmentQuad q;
     if (passThrough && !observed) {
@@ -72,11 +125,11 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, int qx, i
         q.coverage = uint8_t(coverage);
         q.diffuse = diffuse;
         q.specular = specular;
+        const Plane* tp = texPool + t.texPlanes;
         for (int k = 0; k < dc.numTexSets; ++k)
             for (int i = 0; i < 4; ++i)
                 for (int c = 0; c < 4; ++c)
-                    q.texCoord[dc.texSets[k]][i][c] =
-                        t.attr[kColorAttrs + 4 * k + c].at(fx[i], fy[i]) * r[i];
+                    q.texCoord[dc.texSets[k]][i][c] = tp[4 * k + c].at(fx[i], fy[i]) * r[i];
         if (passThrough)
             color = diffuse;
         else
@@ -98,16 +151,19 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, int qx, i
         if (depthOn) {
             double z = (t.zc + t.zdx * ((double(px) + 0.5) - double(t.x0))) +
                        t.zdy * ((double(py) + 0.5) - double(t.y0));
-            uint32_t q = quantizeDepth(z, dc.depthMax);
+            uint32_t zq = quantizeDepth(z, dc.depthMax);
             uint32_t& stored = fb.depth()[idx];
-            if (!comparePasses(st.depthFunc, q, stored)) continue;
-            if (st.depthWrite) stored = q;
+            if (!comparePasses(st.depthFunc, zq, stored)) continue;
+            if (st.depthWrite) stored = zq;
         }
         ++rc.written;
         written |= 1u << i;
         Rgba8& dst = fb.color()[idx];
         if (blendOn) {
-            c = blendPixel(st.srcBlend, st.dstBlend, st.blendOp, c, dst);
+            if constexpr (kSpecialized)
+                c = blendFast(st, c, dst);
+            else
+                c = blendPixel(st.srcBlend, st.dstBlend, st.blendOp, c, dst);
             ++rc.blendOps;
         }
         dst = applyWriteMask(st.colorWriteMask, c, dst);

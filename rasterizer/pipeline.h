@@ -89,8 +89,13 @@ struct SetupTriangle {
     float x0 = 0, y0 = 0;        // snapped first vertex, pixels
     double zc = 0, zdx = 0, zdy = 0;  // window z plane, double precision
     Plane invW;                  // 1/w
-    std::array<Plane, kMaxAttrs> attr{};  // a/w when perspective-correct, else a
+    // Colour planes (a/w when perspective-correct, else a), diffuse RGBA then specular
+    // RGBA, stored as three arrays so that the fast path evaluates 4 channels per SSE op
+    // with exactly the scalar operations of Plane::at.
+    alignas(16) std::array<float, kColorAttrs> colorC{}, colorDx{}, colorDy{};
     Rgba8 flatDiffuse, flatSpecular;
+    uint32_t texPlanes = 0;      // first of 4·numTexSets planes in the draw's texture pool
+    Plane color(int a) const { return Plane{colorC[a], colorDx[a], colorDy[a]}; }
 };
 
 // Geometry counters of one batch of triangles.
@@ -125,17 +130,18 @@ std::array<uint32_t, 3> triangleVertices(Primitive p, uint32_t i);
 // Clips one triangle and sets up what reaches rasterization, appending to `out`.
 void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
                   const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
-                  std::vector<SetupTriangle>& out, GeometryCounters& gc);
+                  std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
+                  GeometryCounters& gc);
 
 // ---- setup_triangle.cpp ----------------------------------------------------------------
 // Snaps, culls and computes edges and planes; false when culled or outside the clip rect.
 bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
                    const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
-                   SetupTriangle& t);
+                   SetupTriangle& t, std::vector<Plane>& texPool);
 
 // ---- raster_reference.cpp / raster_tiles.cpp -------------------------------------------
 void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>& tris,
-                        RasterCounters& rc);
+                        const std::vector<Plane>& texPool, RasterCounters& rc);
 
 // ---- floor/ceil division for the span solver (exact on int64) --------------------------
 inline int64_t floorDiv(int64_t a, int64_t b) {  // b > 0

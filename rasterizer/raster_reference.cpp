@@ -7,7 +7,7 @@
 namespace rg::raster::detail {
 
 void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>& tris,
-                        RasterCounters& rc) {
+                        const std::vector<Plane>& texPool, RasterCounters& rc) {
     const int s = dc.subpixelBits;
     const int64_t half = int64_t{1} << (s - 1);
     for (const SetupTriangle& t : tris) {
@@ -23,7 +23,7 @@ void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>&
                         inside = inside && t.C[e] + t.A[e] * X + t.B[e] * Y >= 0;
                     if (inside) coverage |= 1u << i;
                 }
-                if (coverage) processQuad<false, false, false, false>(dc, t, qx, qy, coverage, rc);
+                if (coverage) processQuad<false, false, false, false>(dc, t, texPool.data(), qx, qy, coverage, rc);
             }
     }
 }

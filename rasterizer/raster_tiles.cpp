@@ -67,7 +67,7 @@ bool constantColor(const DrawContext& dc, const SetupTriangle& t, Rgba8& out) {
         return true;
     }
     for (int a = 0; a < 4; ++a)
-        if (t.attr[a].dx != 0.0f || t.attr[a].dy != 0.0f) return false;
+        if (t.colorDx[a] != 0.0f || t.colorDy[a] != 0.0f) return false;
     float r = 1.0f;
     if (dc.perspectiveColor) {
         if (t.invW.dx != 0.0f || t.invW.dy != 0.0f) return false;
@@ -75,7 +75,7 @@ bool constantColor(const DrawContext& dc, const SetupTriangle& t, Rgba8& out) {
     }
     uint8_t c[4];
     for (int a = 0; a < 4; ++a) {
-        float v = t.attr[a].c;
+        float v = t.colorC[a];
         if (dc.perspectiveColor) v = v * r;
         c[a] = colorToByte(v);
     }
@@ -109,9 +109,45 @@ void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgb
     }
 }
 
+// Narrow boxes (small triangles): the three edge functions stepped per pixel in int64,
+// cheaper than solving row spans with divisions. Wide boxes: exact row spans.
+constexpr int kSpanWalkMinWidth = 16;
+
 template <bool kDepth, bool kBlend, bool kPassThrough>
-void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Box& box, RasterCounters& rc) {
+void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPool, const Box& box,
+              RasterCounters& rc) {
     const int s = dc.subpixelBits;
+    if (box.x1 - box.x0 + 1 < kSpanWalkMinWidth) {
+        const int64_t half = int64_t{1} << (s - 1);
+        const int qx0 = box.x0 & ~1;
+        int64_t stepX[3], stepY[3], rowE[3];
+        for (int e = 0; e < 3; ++e) {
+            stepX[e] = t.A[e] << s;
+            stepY[e] = t.B[e] << s;
+        }
+        for (int qy = box.y0 & ~1; qy <= box.y1; qy += 2) {
+            const int64_t Y = (int64_t(qy) << s) + half, X = (int64_t(qx0) << s) + half;
+            for (int e = 0; e < 3; ++e) rowE[e] = t.C[e] + t.A[e] * X + t.B[e] * Y;
+            // Rows of the quad inside the box.
+            const unsigned rowMask = (qy >= box.y0 ? 0x3u : 0u) | (qy + 1 <= box.y1 ? 0xCu : 0u);
+            for (int qx = qx0; qx <= box.x1; qx += 2) {
+                unsigned coverage = 0;
+                for (int i = 0; i < 4; ++i) {
+                    bool in = true;
+                    for (int e = 0; e < 3; ++e)
+                        in &= rowE[e] + ((i & 1) ? stepX[e] : 0) + ((i >> 1) ? stepY[e] : 0) >= 0;
+                    coverage |= unsigned(in) << i;
+                }
+                const unsigned colMask = (qx >= box.x0 ? 0x5u : 0u) | (qx + 1 <= box.x1 ? 0xAu : 0u);
+                coverage &= rowMask & colMask;
+                if (coverage)
+                    processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, texPool, qx, qy,
+                                                                    coverage, rc);
+                for (int e = 0; e < 3; ++e) rowE[e] += 2 * stepX[e];
+            }
+        }
+        return;
+    }
     for (int qy = box.y0 & ~1; qy <= box.y1; qy += 2) {
         int l0 = 0, r0 = -1, l1 = 0, r1 = -1;
         bool row0 = qy >= box.y0 && rowSpan(t, qy, s, box, l0, r0);
@@ -125,12 +161,14 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Box& box, Ras
             coverage |= unsigned(row0 && qx + 1 >= l0 && qx + 1 <= r0) << 1;
             coverage |= unsigned(row1 && qx >= l1 && qx <= r1) << 2;
             coverage |= unsigned(row1 && qx + 1 >= l1 && qx + 1 <= r1) << 3;
-            if (coverage) processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, qx, qy, coverage, rc);
+            if (coverage)
+                processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, texPool, qx, qy, coverage, rc);
         }
     }
 }
 
-using QuadWalkFn = void (*)(const DrawContext&, const SetupTriangle&, const Box&, RasterCounters&);
+using QuadWalkFn = void (*)(const DrawContext&, const SetupTriangle&, const Plane*, const Box&,
+                            RasterCounters&);
 
 QuadWalkFn selectQuadWalk(const DrawContext& dc) {
     static constexpr QuadWalkFn table[8] = {
@@ -163,7 +201,7 @@ void rasterizeTile(const DrawContext& dc, const std::vector<TriangleChunk>& chun
             if (spanFillable && constantColor(dc, t, color))
                 spanFill(dc, t, box, color, rc);
             else
-                walk(dc, t, box, rc);
+                walk(dc, t, chunk.texPlanes.data(), box, rc);
         }
     }
 }

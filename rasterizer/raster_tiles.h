@@ -15,6 +15,7 @@ constexpr int kTileSize = 1 << kTileShift;
 // A consecutive run of the draw's triangles, set up by one task and binned into tiles.
 struct TriangleChunk {
     std::vector<SetupTriangle> tris;
+    std::vector<Plane> texPlanes;    // texture-coordinate planes of `tris`
     std::vector<uint32_t> binStart;  // per tile: first entry in binItems (size tiles + 1)
     std::vector<uint32_t> binItems;  // triangle numbers within `tris`, in order
     GeometryCounters geometry;

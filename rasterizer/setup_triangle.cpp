@@ -21,14 +21,15 @@ int64_t snap(float x, int s) {
     return int64_t(v);
 }
 
-// The plane through (0,0,a0), (dx1,dy1,a1), (dx2,dy2,a2), in double, stored in single.
+// The plane through (0,0,a0), (dx1,dy1,a1), (dx2,dy2,a2), in double, stored in single;
+// invArea = 1/(dx1·dy2 − dx2·dy1) is computed once per triangle.
 Plane makePlane(double a0, double a1, double a2, double dx1, double dy1, double dx2, double dy2,
-                double area) {
+                double invArea) {
     double da1 = a1 - a0, da2 = a2 - a0;
     Plane p;
     p.c = float(a0);
-    p.dx = float((da1 * dy2 - da2 * dy1) / area);
-    p.dy = float((da2 * dx1 - da1 * dx2) / area);
+    p.dx = float((da1 * dy2 - da2 * dy1) * invArea);
+    p.dy = float((da2 * dx1 - da1 * dx2) * invArea);
     return p;
 }
 
@@ -36,7 +37,7 @@ Plane makePlane(double a0, double a1, double a2, double dx1, double dy1, double 
 
 bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
                    const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
-                   SetupTriangle& t) {
+                   SetupTriangle& t, std::vector<Plane>& texPool) {
     const ProcessedVertex* v[3] = {&v0, &v1, &v2};
     for (const ProcessedVertex* p : v)
         if (!std::isfinite(p->wx) || !std::isfinite(p->wy) || !std::isfinite(p->wz) ||
@@ -91,7 +92,7 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
     double x0 = double(X[0]) * inv, y0 = double(Y[0]) * inv;
     double dx1 = double(X[1]) * inv - x0, dy1 = double(Y[1]) * inv - y0;
     double dx2 = double(X[2]) * inv - x0, dy2 = double(Y[2]) * inv - y0;
-    double areaD = dx1 * dy2 - dx2 * dy1;
+    const double invArea = 1.0 / (dx1 * dy2 - dx2 * dy1);
     t.x0 = float(x0);
     t.y0 = float(y0);
 
@@ -99,24 +100,30 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
         double a0 = v[0]->wz, a1 = v[1]->wz, a2 = v[2]->wz;
         double da1 = a1 - a0, da2 = a2 - a0;
         t.zc = a0;
-        t.zdx = (da1 * dy2 - da2 * dy1) / areaD;
-        t.zdy = (da2 * dx1 - da1 * dx2) / areaD;
+        t.zdx = (da1 * dy2 - da2 * dy1) * invArea;
+        t.zdy = (da2 * dx1 - da1 * dx2) * invArea;
     }
     const bool needInvW = (dc.gouraud && dc.perspectiveColor) || dc.numTexSets > 0;
     if (needInvW)
-        t.invW = makePlane(v[0]->invW, v[1]->invW, v[2]->invW, dx1, dy1, dx2, dy2, areaD);
+        t.invW = makePlane(v[0]->invW, v[1]->invW, v[2]->invW, dx1, dy1, dx2, dy2, invArea);
     auto attrPlane = [&](int a, bool perspective) {
         double w0 = perspective ? double(v[0]->invW) : 1.0;
         double w1 = perspective ? double(v[1]->invW) : 1.0;
         double w2 = perspective ? double(v[2]->invW) : 1.0;
-        t.attr[a] = makePlane(v[0]->attr[a] * w0, v[1]->attr[a] * w1, v[2]->attr[a] * w2, dx1,
-                              dy1, dx2, dy2, areaD);
+        return makePlane(v[0]->attr[a] * w0, v[1]->attr[a] * w1, v[2]->attr[a] * w2, dx1, dy1,
+                         dx2, dy2, invArea);
     };
     if (dc.gouraud) {
         int colors = dc.needSpecular ? 8 : 4;
-        for (int a = 0; a < colors; ++a) attrPlane(a, dc.perspectiveColor);
+        for (int a = 0; a < colors; ++a) {
+            Plane p = attrPlane(a, dc.perspectiveColor);
+            t.colorC[a] = p.c;
+            t.colorDx[a] = p.dx;
+            t.colorDy[a] = p.dy;
+        }
     }
-    for (int a = kColorAttrs; a < dc.numAttrs; ++a) attrPlane(a, true);
+    t.texPlanes = uint32_t(texPool.size());
+    for (int a = kColorAttrs; a < dc.numAttrs; ++a) texPool.push_back(attrPlane(a, true));
     t.flatDiffuse = flatDiffuse;
     t.flatSpecular = flatSpecular;
     return true;

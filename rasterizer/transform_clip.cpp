@@ -170,7 +170,8 @@ std::array<uint32_t, 3> triangleVertices(Primitive p, uint32_t i) {
 
 void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
                   const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
-                  std::vector<SetupTriangle>& out, GeometryCounters& gc) {
+                  std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
+                  GeometryCounters& gc) {
     ++gc.submitted;
     if (!v0.valid || !v1.valid || !v2.valid) {
         ++gc.invalid;
@@ -191,7 +192,7 @@ void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const Proces
     }
     SetupTriangle t;
     if ((code[0] | code[1] | code[2]) == 0) {
-        if (setupTriangle(dc, v0, v1, v2, flatDiffuse, flatSpecular, t)) {
+        if (setupTriangle(dc, v0, v1, v2, flatDiffuse, flatSpecular, t, texPool)) {
             out.push_back(t);
             ++gc.drawn;
         } else {
@@ -225,7 +226,7 @@ void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const Proces
     }
     bool any = false;
     for (int k = 1; k + 1 < n; ++k)
-        if (setupTriangle(dc, cur[0], cur[k], cur[k + 1], flatDiffuse, flatSpecular, t)) {
+        if (setupTriangle(dc, cur[0], cur[k], cur[k + 1], flatDiffuse, flatSpecular, t, texPool)) {
             out.push_back(t);
             any = true;
         }
