@@ -1,5 +1,7 @@
 #include "reproductions.h"
 
+#include "reproduce_pem.h"
+
 namespace rg::demos {
 
 const std::vector<Reproduction>& reproductions() {
@@ -7,7 +9,7 @@ const std::vector<Reproduction>& reproductions() {
     // does not exist yet has no `run`, and `retroglass reproduce` says so.
     static const std::vector<Reproduction> kAll = {
         {"pem", "Hakura, Snyder & Lengyel, \"Parameterized Environment Maps\", I3D 2001",
-         "geforce256", {}},
+         "geforce256", &pem::reproducePem},
         {"hybrid",
          "Hakura & Snyder, \"Realistic Reflections and Refractions on Graphics Hardware With "
          "Hybrid Rendering and Layered Environment Maps\", EGWR 2001",

@@ -1,0 +1,148 @@
+#include "inference.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/IterativeLinearSolvers>
+
+#include "core/error.h"
+
+namespace rg::pem {
+
+int TexelLayout::levels() const {
+    int n = 1;
+    for (int s = baseSize; s > 1; s >>= 1) ++n;
+    return n;
+}
+
+int64_t TexelLayout::levelOffset(int level) const {
+    int64_t off = 0;
+    for (int l = 0; l < level; ++l) off += int64_t(faces) * levelSize(l) * levelSize(l);
+    return off;
+}
+
+int64_t TexelLayout::index(int level, int face, int x, int y) const {
+    int s = levelSize(level);
+    return levelOffset(level) + (int64_t(face) * s + y) * s + x;
+}
+
+int64_t TexelLayout::count() const { return levelOffset(levels()); }
+
+int RenderingMatrix::finestLevelAccessed() const {
+    int64_t firstCol = -1;
+    for (int k = 0; k < A.outerSize(); ++k)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(A, k); it; ++it)
+            if (it.value() > 0 && (firstCol < 0 || it.col() < firstCol)) firstCol = it.col();
+    if (firstCol < 0) return -1;
+    for (int l = layout.levels() - 1; l >= 0; --l)
+        if (firstCol >= layout.levelOffset(l)) return l;
+    return 0;
+}
+
+namespace {
+
+// The regulariser R = λ·Σ_neighbours (x_i − x_j)² + κ·Σ_parents (x_p − mean children)²,
+// as a sparse symmetric matrix (the quadratic form's Hessian / 2).
+Eigen::SparseMatrix<double> regulariser(const TexelLayout& L, const InferenceOptions& o) {
+    std::vector<Eigen::Triplet<double>> t;
+    auto addDiff = [&](int64_t i, int64_t j, double w) {  // w (x_i − x_j)²
+        t.emplace_back(i, i, w);
+        t.emplace_back(j, j, w);
+        t.emplace_back(i, j, -w);
+        t.emplace_back(j, i, -w);
+    };
+    for (int l = 0; l < L.levels(); ++l) {
+        int s = L.levelSize(l);
+        for (int f = 0; f < L.faces; ++f)
+            for (int y = 0; y < s; ++y)
+                for (int x = 0; x < s; ++x) {
+                    int64_t i = L.index(l, f, x, y);
+                    if (x + 1 < s) addDiff(i, L.index(l, f, x + 1, y), o.smoothness);
+                    if (y + 1 < s) addDiff(i, L.index(l, f, x, y + 1), o.smoothness);
+                    if (l > 0 && o.levelCoupling > 0) {
+                        // (x_p − ¼Σ c_k)²: gradient terms over {p, c0..c3}
+                        int64_t ids[5] = {i, L.index(l - 1, f, 2 * x, 2 * y),
+                                          L.index(l - 1, f, std::min(2 * x + 1, L.levelSize(l - 1) - 1), 2 * y),
+                                          L.index(l - 1, f, 2 * x, std::min(2 * y + 1, L.levelSize(l - 1) - 1)),
+                                          L.index(l - 1, f, std::min(2 * x + 1, L.levelSize(l - 1) - 1),
+                                                  std::min(2 * y + 1, L.levelSize(l - 1) - 1))};
+                        double c[5] = {1.0, -0.25, -0.25, -0.25, -0.25};
+                        for (int a = 0; a < 5; ++a)
+                            for (int b = 0; b < 5; ++b)
+                                t.emplace_back(ids[a], ids[b], o.levelCoupling * c[a] * c[b]);
+                    }
+                }
+    }
+    Eigen::SparseMatrix<double> R(L.count(), L.count());
+    R.setFromTriplets(t.begin(), t.end());
+    return R;
+}
+
+}  // namespace
+
+Eigen::VectorXd inferChannel(const RenderingMatrix& m, const Eigen::VectorXd& b,
+                             const InferenceOptions& o, InferenceStats* stats) {
+    const int64_t n = m.layout.count();
+    if (m.A.cols() != n) throw Error("rendering matrix has the wrong number of columns");
+    if (b.size() != m.A.rows()) throw Error("layer image does not match the rendering matrix rows");
+
+    // Normal equations of  ‖Ax − b‖² + xᵀRx + μ‖x − x̄‖²  (+ pins from the bound rounds).
+    Eigen::SparseMatrix<double> At = m.A.transpose();
+    Eigen::SparseMatrix<double> H = At * m.A;
+    H += regulariser(m.layout, o);
+    double mean = b.size() ? b.mean() : 0.5;
+    Eigen::VectorXd rhs = At * b;
+    Eigen::SparseMatrix<double> I(n, n);
+    I.setIdentity();
+    H += o.prior * I;
+    rhs.array() += o.prior * mean;
+
+    Eigen::VectorXd x = Eigen::VectorXd::Constant(n, mean);
+    Eigen::VectorXd pinWeight = Eigen::VectorXd::Zero(n), pinValue = Eigen::VectorXd::Zero(n);
+    InferenceStats s;
+    for (int round = 0; round <= o.boundRounds; ++round) {
+        Eigen::SparseMatrix<double> Hp = H;
+        Eigen::VectorXd rp = rhs;
+        if (round > 0) {
+            Eigen::SparseMatrix<double> P(n, n);
+            std::vector<Eigen::Triplet<double>> d;
+            for (int64_t i = 0; i < n; ++i)
+                if (pinWeight[i] > 0) d.emplace_back(i, i, pinWeight[i]);
+            P.setFromTriplets(d.begin(), d.end());
+            Hp += P;
+            rp += pinWeight.cwiseProduct(pinValue);
+        }
+        Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+        cg.setMaxIterations(o.maxIterations);
+        cg.setTolerance(o.tolerance);
+        cg.compute(Hp);
+        x = cg.solveWithGuess(rp, x);
+        s.iterations += int(cg.iterations());
+        // Texels outside [0, 1] cannot be stored in an 8-bit texture: pin them to the bound
+        // with a strong weight and solve again so their neighbours compensate.
+        bool any = false;
+        for (int64_t i = 0; i < n; ++i)
+            if (x[i] < 0.0 || x[i] > 1.0) {
+                double bound = x[i] < 0.0 ? 0.0 : 1.0;
+                double w = 10.0 * (Hp.coeff(i, i) + 1.0);
+                if (pinWeight[i] == 0) any = true;
+                pinWeight[i] = w;
+                pinValue[i] = bound;
+            }
+        if (!any) break;
+    }
+    s.clampedTexels = 0;
+    for (int64_t i = 0; i < n; ++i) {
+        if (x[i] < 0.0 || x[i] > 1.0) ++s.clampedTexels;
+        x[i] = std::clamp(x[i], 0.0, 1.0);
+    }
+    double nb = b.norm();
+    s.residual = nb > 0 ? (m.A * x - b).norm() / nb : 0.0;
+    s.texels = n;
+    s.rows = m.A.rows();
+    s.nonZeros = m.A.nonZeros();
+    if (stats) *stats = s;
+    return x;
+}
+
+}  // namespace rg::pem

@@ -1,0 +1,543 @@
+// The PEM reproduction: precompute (segmented ray tracing + inference per viewpoint sample),
+// evaluation on and off the manifold against the ray tracer, the viewer's timings, the
+// figures, report.md and results.json.
+#include "reproduce_pem.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/profile.h"
+#include "core/progress.h"
+#include "pem_assets.h"
+#include "pem_precompute.h"
+#include "raycore/builtin_scenes.h"
+#include "raycore/metrics.h"
+#include "raycore/scene_json.h"
+
+namespace fs = std::filesystem;
+
+namespace rg::pem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+PemSettings settingsFor(demos::Quality q) {
+    PemSettings s;
+    if (q == demos::Quality::Paper) {
+        // 001 §6: 100 views at 1°, 256×256×6 EMs, ~40k triangles; 640×480 images.
+        s.views = 100;
+        s.stepDegrees = 1.0f;
+        s.emSize = 256;
+        s.emProbeSize = 512;
+        s.ptmSize = 512;
+        s.width = 640;
+        s.height = 480;
+        s.teapotLevel = 25;
+        s.spp = 3;
+        s.viewerFrames = 30;
+    }
+    return s;
+}
+
+std::pair<int, int> parseViews(const std::string& spec, int count) {
+    if (spec.empty()) return {0, count};
+    int a = 0, b = 0;
+    char colon = 0;
+    std::istringstream in(spec);
+    if (!(in >> a >> colon >> b) || colon != ':' || a < 0 || b > count || a >= b)
+        throw Error("--views '" + spec + "': expected A:B with 0 ≤ A < B ≤ " + std::to_string(count));
+    return {a, b};
+}
+
+// The emulated framebuffer as a float image (bytes / 255) and its coverage (alpha > 0).
+ray::Image framebufferImage(const raster::Framebuffer& fb, ray::Image* drawn = nullptr) {
+    ray::Image img(fb.width(), fb.height(), 3);
+    if (drawn) *drawn = ray::Image(fb.width(), fb.height(), 1);
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x) {
+            Rgba8 c = fb.pixel(x, y);
+            img.setRgb(x, y, glm::vec3(c.r, c.g, c.b) / 255.0f);
+            if (drawn) drawn->at(x, y, 0) = c.a > 0 ? 1.0f : 0.0f;
+        }
+    return img;
+}
+
+// PSNR (peak 1) over the pixels fully covered by the reflector in both renderers.
+struct MaskedScore {
+    double psnr = 0, mse = 0;
+    int64_t pixels = 0;
+};
+MaskedScore maskedPsnr(const ray::Image& truth, const ray::Image& coverage, const ray::Image& ours,
+                       const ray::Image& drawn) {
+    double sum = 0;
+    int64_t n = 0;
+    for (int y = 0; y < truth.height; ++y)
+        for (int x = 0; x < truth.width; ++x) {
+            if (coverage.at(x, y, 0) < 0.999f || drawn.at(x, y, 0) == 0.0f) continue;
+            for (int c = 0; c < 3; ++c) {
+                double t = std::clamp(truth.at(x, y, c), 0.0f, 1.0f);
+                double d = t - ours.at(x, y, c);
+                sum += d * d;
+            }
+            ++n;
+        }
+    MaskedScore s;
+    s.pixels = n;
+    s.mse = n ? sum / (3.0 * n) : 0;
+    s.psnr = s.mse > 0 ? 10.0 * std::log10(1.0 / s.mse) : 99.0;
+    return s;
+}
+
+// The reflector alone: truth outside the coverage mask is black (as our frames are).
+ray::Image maskedTruth(const ray::Image& truth, const ray::Image& coverage) {
+    ray::Image out = truth;
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x)
+            if (coverage.at(x, y, 0) <= 0.0f) out.setRgb(x, y, glm::vec3(0.0f));
+    return out;
+}
+
+ray::Image hstack(const std::vector<ray::Image>& images, int gap = 4) {
+    int w = 0, h = 0;
+    for (const auto& im : images) w += im.width + gap, h = std::max(h, im.height);
+    ray::Image out(std::max(1, w - gap), h, 3, 1.0f);
+    int x0 = 0;
+    for (const auto& im : images) {
+        for (int y = 0; y < im.height; ++y)
+            for (int x = 0; x < im.width; ++x) out.setRgb(x0 + x, y, im.rgb(x, y));
+        x0 += im.width + gap;
+    }
+    return out;
+}
+
+ray::Image vstack(const std::vector<ray::Image>& images, int gap = 4) {
+    int w = 0, h = 0;
+    for (const auto& im : images) h += im.height + gap, w = std::max(w, im.width);
+    ray::Image out(w, std::max(1, h - gap), 3, 1.0f);
+    int y0 = 0;
+    for (const auto& im : images) {
+        for (int y = 0; y < im.height; ++y)
+            for (int x = 0; x < im.width; ++x) out.setRgb(x, y0 + y, im.rgb(x, y));
+        y0 += im.height + gap;
+    }
+    return out;
+}
+
+// A map's faces side by side per level, every level enlarged (nearest) to the base size,
+// levels top to bottom (Figure 5). channel < 0: RGB, else that channel as grey.
+ray::Image mapFigure(const MapTexels& map, int channel, int maxLevels = 4) {
+    const TexelLayout& L = map.layout;
+    std::vector<ray::Image> rows;
+    for (int l = 0; l < std::min(L.levels(), maxLevels); ++l) {
+        std::vector<ray::Image> faces;
+        int s = L.levelSize(l);
+        for (int f = 0; f < L.faces; ++f) {
+            ray::Image im(L.baseSize, L.baseSize, 3);
+            for (int y = 0; y < L.baseSize; ++y)
+                for (int x = 0; x < L.baseSize; ++x) {
+                    Rgba8 t = map.texels[size_t(L.index(l, f, x * s / L.baseSize, y * s / L.baseSize))];
+                    glm::vec3 c = channel < 0 ? glm::vec3(t.r, t.g, t.b)
+                                              : glm::vec3(channel == 3 ? t.a : t.r);
+                    im.setRgb(x, y, c / 255.0f);
+                }
+            faces.push_back(std::move(im));
+        }
+        rows.push_back(hstack(faces, 2));
+    }
+    return vstack(rows, 2);
+}
+
+ray::Image layerImage(const ray::PemLayerImages& layers, int which) {
+    // which: 0 distant, 1 local colour, 2 local alpha, 3 Fresnel; parts summed by coverage.
+    const auto& s0 = layers.segments.at(0);
+    ray::Image out(s0.coverage.width, s0.coverage.height, 3);
+    for (const auto& s : layers.segments)
+        for (int y = 0; y < out.height; ++y)
+            for (int x = 0; x < out.width; ++x) {
+                float cov = s.coverage.at(x, y, 0);
+                glm::vec3 v = which == 0 ? s.distant.rgb(x, y)
+                              : which == 1 ? s.localColor.rgb(x, y)
+                              : which == 2 ? glm::vec3(s.localAlpha.at(x, y, 0))
+                                           : s.fresnel.rgb(x, y);
+                out.setRgb(x, y, out.rgb(x, y) + cov * glm::min(v, glm::vec3(1.0f)));
+            }
+    return out;
+}
+
+}  // namespace
+
+int reproducePem(const demos::ReproduceOptions& options) {
+    PemSettings S = settingsFor(options.quality);
+    S.threads = options.threads;
+    runPem(S, options);
+    return 0;
+}
+
+nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
+    const auto tStart = Clock::now();
+    const fs::path out = options.outDir;
+    fs::create_directories(out);
+    const fs::path assets = out / "assets";
+    const Profile& profile = profileByName("geforce256");
+
+    // ---- scene ----------------------------------------------------------------------------
+    ray::BuiltinOptions bo;
+    bo.teapotLevel = S.teapotLevel;
+    ray::Scene scene = options.scene.empty() ? ray::makeBuiltinScene("teapot-in-room", bo)
+                                             : ray::loadSceneByName(options.scene);
+    int pathIndex = scene.findViewpointPath("circle");
+    if (pathIndex < 0 && !scene.viewpointPaths.empty()) pathIndex = 0;
+    if (pathIndex < 0) throw Error("PEM: the scene has no viewpoint path to pre-render along");
+    ray::ViewpointPath path = scene.viewpointPaths[size_t(pathIndex)];
+    path.count = uint32_t(S.views);
+    path.stepDegrees = S.stepDegrees;
+    PemSceneOptions pso;
+    if (!options.scene.empty()) {
+        // A user's scene: the first mirror object, whole (parts if it names body/lid).
+        pso.object.clear();
+        for (const auto& o : scene.objects)
+            if (scene.materials.at(o.material).type == ray::MaterialType::Mirror) {
+                pso.object = o.name;
+                break;
+            }
+        if (pso.object.empty()) throw Error("PEM: the scene has no mirror object to infer PEMs for");
+        const ray::Mesh& m = scene.meshes.at(scene.objects.at(size_t(scene.findObject(pso.object))).mesh);
+        pso.parts.clear();
+        if (m.findPart("body") >= 0 && m.findPart("lid") >= 0) pso.parts = {"body", "lid"};
+    }
+    std::printf("pem: scene '%s', reflector '%s', %d viewpoints at %.1f°, %dx%d, profile %s\n",
+                scene.name.c_str(), pso.object.c_str(), S.views, S.stepDegrees, S.width, S.height,
+                std::string(profile.name).c_str());
+    PemScene ps = makePemScene(std::move(scene), pso);
+    ray::Accel accel(ps.scene);
+    raster::Device device(profile, S.width, S.height, raster::DepthFormat::D24,
+                          {Path::Fast, S.threads});
+    PemRenderer renderer(device, ps);
+
+    // ---- EM resolution: the finest MIPMAP level actually accessed (001 §4) ---------------
+    const int kView = std::max(0, S.views / 2 - 1);  // the evaluation sample
+    const ray::Camera camK = path.at(uint32_t(kView));
+    int finestAccessedRes = 0;
+    for (size_t p = 0; p < ps.parts.size(); ++p)
+        for (EmLayer layer : {EmLayer::Distant, EmLayer::Local}) {
+            RenderingMatrix probe =
+                buildMatrixByInstrumentedPass(device, renderer, camK, p, layer, S.emProbeSize);
+            int l = probe.finestLevelAccessed();
+            if (l >= 0) finestAccessedRes = std::max(finestAccessedRes, S.emProbeSize >> l);
+        }
+    const int emSize = std::max(8, std::min(S.emSize, finestAccessedRes > 0 ? finestAccessedRes : S.emSize));
+    std::printf("pem: finest EM level accessed ≙ %d² per face (probe %d²); EM resolution %d²×6\n",
+                finestAccessedRes, S.emProbeSize, emSize);
+
+    // ---- precompute (or reuse stored views) ------------------------------------------------
+    auto [v0, v1] = parseViews(options.views, S.views);
+    nlohmann::json manifest = manifestFor(ps, S, emSize);
+    if (!manifestMatches(assets, manifest)) {
+        if (fs::exists(assets / "manifest.json"))
+            std::printf("pem: stored assets were made with other settings; recomputing\n");
+        fs::remove_all(assets);
+        writeManifest(assets, manifest);
+    }
+    std::vector<std::optional<ViewSample>> samples(size_t(S.views));
+    {
+        Progress progress("pem precompute", uint64_t(v1 - v0));
+        for (int v = v0; v < v1; ++v) {
+            ray::Camera cam = path.at(uint32_t(v));
+            samples[size_t(v)] = loadView(assets, ps, v, emSize, S.ptmSize);
+            if (!samples[size_t(v)]) {
+                samples[size_t(v)] = precomputeView(accel, renderer, v, cam, emSize, S);
+                saveView(assets, ps, *samples[size_t(v)], cam);
+            }
+            progress.advance();
+        }
+    }
+    if (!options.views.empty()) {
+        std::printf("pem: views %d..%d stored in %s; run without --views (with all view_* "
+                    "folders copied there) to merge and evaluate\n", v0, v1 - 1, assets.string().c_str());
+        return {};
+    }
+    double rtS = 0, infS = 0;
+    int timed = 0;
+    for (const auto& s : samples)
+        if (s && s->raytraceSeconds > 0) rtS += s->raytraceSeconds, infS += s->inferenceSeconds, ++timed;
+    if (timed) rtS /= timed, infS /= timed;
+
+    // ---- A two ways at the evaluation sample (001 §4 "EM Inference") --------------------
+    nlohmann::json agreement;
+    for (EmLayer layer : {EmLayer::Distant, EmLayer::Local}) {
+        MatrixBuildStats sa, sb;
+        RenderingMatrix a = buildMatrixByTestRenderings(device, renderer, camK, 0, layer, emSize, &sa);
+        RenderingMatrix b = buildMatrixByInstrumentedPass(device, renderer, camK, 0, layer, emSize, &sb);
+        MatrixAgreement g = compareMatrices(a, b, 1.0 / 255.0);
+        agreement[emLayerName(layer)] = {
+            {"part", ps.parts[0].name},
+            {"max_abs_difference", g.maxAbsDifference},
+            {"entries_differing_by_more_than_1_255", g.unmatched},
+            {"same_rows", g.sameRows},
+            {"rows", g.rowsB},
+            {"nonzeros_test_renderings", g.nonZerosA},
+            {"nonzeros_instrumented", g.nonZerosB},
+            {"test_renderings", sa.renderings},
+            {"test_renderings_s", sa.seconds},
+            {"instrumented_s", sb.seconds}};
+    }
+
+    // ---- static EM baseline ------------------------------------------------------------
+    MapTexels staticMap = traceStaticEm(accel, ps, emSize, S);
+    PemSample staticSample;
+    staticSample.distant.push_back(uploadMap(renderer, staticMap));
+
+    // ---- evaluation ----------------------------------------------------------------------
+    const ViewSample& sk = *samples[size_t(kView)];
+    const ViewSample& sk1 = *samples[size_t(std::min(kView + 1, S.views - 1))];
+    struct Eval {
+        std::string name;
+        ray::Camera camera;
+        ray::Image truth, coverage;
+        std::map<std::string, ray::Image> images;
+        std::map<std::string, MaskedScore> scores;
+    };
+    auto evaluate = [&](Eval& e, const std::vector<EmMode>& modes, bool blended) {
+        ray::Image drawn;
+        for (EmMode mode : modes) {
+            if (mode == EmMode::Static) {
+                renderer.render(e.camera, mode, staticSample);
+            } else {
+                PemSample a = uploadSample(renderer, sk, mode);
+                if (blended) {
+                    PemSample b = uploadSample(renderer, sk1, mode);
+                    renderer.render(e.camera, mode, a, &b, 0.5f);
+                } else {
+                    renderer.render(e.camera, mode, a);
+                }
+            }
+            ray::Image img = framebufferImage(device.framebuffer(), &drawn);
+            e.scores[emModeName(mode)] = maskedPsnr(e.truth, e.coverage, img, drawn);
+            e.images[emModeName(mode)] = std::move(img);
+        }
+    };
+    const float angleK = path.startDegrees + kView * S.stepDegrees;
+    Eval on{"on_manifold", camK, sk.groundTruth, sk.coverage, {}, {}};
+    evaluate(on, {EmMode::Layered, EmMode::SingleInfinite, EmMode::Ptm, EmMode::Static}, false);
+
+    auto traceTruth = [&](Eval& e) {
+        ray::PemLayerImages layers = traceLayers(accel, ps, e.camera, S);
+        groundTruthOf(layers, e.truth, e.coverage);
+    };
+    Eval between{"off_manifold_between",
+                 ray::cameraOnCircle(path.center, path.radius, path.height,
+                                     angleK + 0.5f * S.stepDegrees, path.fovYDegrees),
+                 {}, {}, {}, {}};
+    traceTruth(between);
+    evaluate(between, {EmMode::Layered, EmMode::SingleInfinite, EmMode::Ptm, EmMode::Static}, true);
+    Eval above{"off_manifold_above",
+               ray::cameraOnCircle(path.center, path.radius, path.height + 0.25f * path.radius,
+                                   angleK + 0.5f * S.stepDegrees, path.fovYDegrees),
+               {}, {}, {}, {}};
+    traceTruth(above);
+    evaluate(above, {EmMode::Layered, EmMode::SingleInfinite, EmMode::Ptm, EmMode::Static}, true);
+
+    // ---- the viewer's frame (001 §6 table) at its resolution -------------------------------
+    nlohmann::json viewer;
+    {
+        raster::Device vdev(profile, S.viewerWidth, S.viewerHeight, raster::DepthFormat::D24,
+                            {Path::Fast, S.threads});
+        PemRenderer vr(vdev, ps);
+        PemSample a = uploadSample(vr, sk, EmMode::Layered);
+        PemSample b = uploadSample(vr, sk1, EmMode::Layered);
+        for (bool blendedRun : {false, true}) {
+            double texgen = 0, frame = 0;
+            int passes = 0;
+            for (int f = 0; f < S.viewerFrames + 1; ++f) {
+                ray::Camera cam = ray::cameraOnCircle(
+                    path.center, path.radius, path.height,
+                    angleK + (blendedRun ? 0.5f : 0.0f) * S.stepDegrees, path.fovYDegrees);
+                auto t0 = Clock::now();
+                FrameTiming t = blendedRun ? vr.render(cam, EmMode::Layered, a, &b, 0.5f)
+                                           : vr.render(cam, EmMode::Layered, a);
+                double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+                if (f == 0) continue;  // warm-up
+                texgen += t.texgenMs;
+                frame += ms;
+                passes = t.reflectorPasses;
+            }
+            texgen /= S.viewerFrames;
+            frame /= S.viewerFrames;
+            viewer[blendedRun ? "off_manifold" : "on_manifold"] = {
+                {"texgen_ms", texgen},
+                {"frame_ms", frame},
+                {"fps", 1000.0 / frame},
+                {"geometry_passes", passes},
+                {"counter_passes", vdev.counters().passes},
+                {"triangles_drawn", vdev.counters().trianglesDrawn},
+                {"width", S.viewerWidth},
+                {"height", S.viewerHeight}};
+        }
+    }
+
+    // ---- figures -------------------------------------------------------------------------
+    auto truthOf = [](const Eval& e) { return maskedTruth(e.truth, e.coverage); };
+    ray::writeImage(out / "figure1_on_manifold.png",
+                    hstack({truthOf(on), on.images["layered_pem"], on.images["static_em"]}));
+    if (!sk.layers.segments.empty())
+        ray::writeImage(out / "figure4_layers.png",
+                        hstack({layerImage(sk.layers, 0), layerImage(sk.layers, 1),
+                                layerImage(sk.layers, 2), layerImage(sk.layers, 3)}));
+    ray::writeImage(out / "figure5_inferred_ems.png",
+                    vstack({mapFigure(sk.parts[0].distant, -1), mapFigure(sk.parts[0].local, -1),
+                            mapFigure(sk.parts[0].local, 3)}, 8));
+    ray::writeImage(out / "figure6_between.png",
+                    hstack({truthOf(between), between.images["layered_pem"],
+                            between.images["single_infinite_pem"]}));
+    ray::writeImage(out / "figure7_above.png",
+                    hstack({truthOf(above), above.images["layered_pem"], above.images["ptm"]}));
+    for (Eval* e : {&on, &between, &above})
+        for (const auto& [name, img] : e->images)
+            ray::writeImage(out / (e->name + "_" + name + "_error.png"),
+                            ray::errorHeatMap(truthOf(*e), img, 0.25f));
+
+    // ---- results.json ------------------------------------------------------------------
+    nlohmann::json r;
+    auto scores = [](const Eval& e) {
+        nlohmann::json j;
+        for (const auto& [name, s] : e.scores) j[name] = s.psnr;
+        return j;
+    };
+    r["on_manifold"]["psnr_db"] = scores(on);
+    r["on_manifold"]["psnr_db"]["pem"] = on.scores["layered_pem"].psnr;
+    r["on_manifold"]["pixels"] = on.scores["layered_pem"].pixels;
+    r["off_manifold_between"]["psnr_db"] = scores(between);
+    r["off_manifold_between"]["pixels"] = between.scores["layered_pem"].pixels;
+    r["off_manifold_above"]["psnr_db"] = scores(above);
+    r["off_manifold_above"]["pixels"] = above.scores["layered_pem"].pixels;
+    r["viewer"] = viewer;
+    r["precompute"] = {{"raytrace_s_per_view", rtS},
+                       {"inference_s_per_view", infS},
+                       {"views_timed", timed}};
+    r["rendering_matrix_agreement"] = agreement;
+    r["settings"] = {{"quality", options.quality == demos::Quality::Paper ? "paper" : "quick"},
+                     {"viewpoints", S.views},
+                     {"step_degrees", S.stepDegrees},
+                     {"em_resolution", emSize},
+                     {"em_finest_accessed", finestAccessedRes},
+                     {"ptm_resolution", S.ptmSize},
+                     {"image_size", {S.width, S.height}},
+                     {"spp", S.spp * S.spp},
+                     {"triangles", ps.triangles},
+                     {"hull_triangles", ps.hullTriangles},
+                     {"profile", std::string(profile.name)},
+                     {"evaluation_view", kView},
+                     {"parts", nlohmann::json::array()}};
+    for (const PemPart& p : ps.parts)
+        r["settings"]["parts"].push_back({{"name", p.name},
+                                          {"local", p.local.describe()},
+                                          {"distant", p.distant.describe()}});
+    r["seconds_total"] = std::chrono::duration<double>(Clock::now() - tStart).count();
+    {
+        std::ofstream f(out / "results.json");
+        f << r.dump(2) << "\n";
+    }
+
+    // ---- report.md -----------------------------------------------------------------------
+    std::ofstream md(out / "report.md");
+    auto num = [](double v, int prec = 2) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.*f", prec, v);
+        return std::string(b);
+    };
+    const auto& von = viewer["on_manifold"];
+    const auto& voff = viewer["off_manifold"];
+    md << "# Parameterized Environment Maps — reproduction\n\n"
+       << "Hakura, Snyder & Lengyel, *Parameterized Environment Maps*, I3D 2001, on the emulated "
+       << "`geforce256` profile (Direct3D 7, two texture stages per pass).\n\n"
+       << "Quality `" << (options.quality == demos::Quality::Paper ? "paper" : "quick") << "`: "
+       << S.views << " viewpoints at " << num(S.stepDegrees, 1) << "° on a circle around the teapot, "
+       << ps.triangles << " triangles (lid and body inferred separately), EMs " << emSize << "²×6 with "
+       << "every MIPMAP level inferred, images " << S.width << "×" << S.height << ", "
+       << S.spp * S.spp << " ray-traced samples per pixel.\n\n"
+       << "## Fidelity against the ray tracer (PSNR in dB over the reflector's pixels)\n\n"
+       << "The paper shows these comparisons as Figures 1, 6 and 7 without numbers; ours are "
+       << "measured over the pixels fully covered by the teapot in both renderers.\n\n"
+       << "| viewpoint | layered PEM | single sphere-at-infinity PEM | PTM | static EM |\n|---|---|---|---|---|\n";
+    for (Eval* e : {&on, &between, &above})
+        md << "| " << e->name << " | " << num(e->scores["layered_pem"].psnr) << " | "
+           << num(e->scores["single_infinite_pem"].psnr) << " | " << num(e->scores["ptm"].psnr)
+           << " | " << num(e->scores["static_em"].psnr) << " |\n";
+    md << "\n![Figure 1](figure1_on_manifold.png)\n\n*Figure 1 analogue, at a viewpoint sample: "
+          "ray traced, layered PEM, static EM.*\n\n"
+       << "![Figure 4](figure4_layers.png)\n\n*Figure 4 analogue: distant layer, local colour, "
+          "local alpha, Fresnel layer.*\n\n"
+       << "![Figure 5](figure5_inferred_ems.png)\n\n*Figure 5 analogue (" << ps.parts[0].name
+       << "): inferred distant EM, local EM and its alpha; rows are MIPMAP levels, columns the "
+          "faces +X −X +Y −Y +Z −Z.*\n\n"
+       << "![Figure 6](figure6_between.png)\n\n*Figure 6 analogue, halfway between two samples: "
+          "ray traced, layered PEM, single sphere-at-infinity PEM.*\n\n"
+       << "![Figure 7](figure7_above.png)\n\n*Figure 7 analogue, above the plane of the samples: "
+          "ray traced, layered PEM, PTM.*\n\n"
+       << "## The viewer (001 §6 table)\n\n"
+       << "| | paper on | ours on | paper off | ours off |\n|---|---|---|---|---|\n"
+       << "| geometry passes | 2 | " << von["geometry_passes"].get<int>() << " | 3 | "
+       << voff["geometry_passes"].get<int>() << " |\n"
+       << "| texgen time | 35 ms | " << num(von["texgen_ms"].get<double>()) << " ms | 35 ms | "
+       << num(voff["texgen_ms"].get<double>()) << " ms |\n"
+       << "| frame time | 45 ms | " << num(von["frame_ms"].get<double>()) << " ms | 57 ms | "
+       << num(voff["frame_ms"].get<double>()) << " ms |\n"
+       << "| FPS | 22 | " << num(von["fps"].get<double>(), 1) << " | 17.5 | "
+       << num(voff["fps"].get<double>(), 1) << " |\n\n"
+       << "Ours: " << S.viewerWidth << "×" << S.viewerHeight << ", " << ps.triangles
+       << " triangles, the emulated GeForce 256 on this machine's CPU cores (paper: 733 MHz PC "
+          "with a GeForce, ~40k triangles).\n\n"
+       << "## Precompute per viewpoint\n\n| | paper | ours |\n|---|---|---|\n"
+       << "| ray tracing | 15 min | " << num(rtS) << " s |\n"
+       << "| EM inference | 5.5 min | " << num(infS) << " s |\n\n"
+       << "## The rendering matrix, two ways\n\n"
+       << "At the evaluation sample, part `" << ps.parts[0].name << "`: the paper's test renderings "
+       << "(8-bit read-backs) against the instrumented pass (exact tap weights).\n\n"
+       << "| layer | max abs difference | entries off by > 1/255 | test renderings |\n|---|---|---|---|\n";
+    for (const auto& [layer, g] : agreement.items())
+        md << "| " << layer << " | " << num(g["max_abs_difference"].get<double>(), 5) << " | "
+           << g["entries_differing_by_more_than_1_255"].get<int64_t>() << " | "
+           << g["test_renderings"].get<int>() << " |\n";
+    md << "\n## Choices where the paper is silent\n\n"
+       << "- **Passes.** On the manifold: pass 1 distant EM × Fresnel, pass 2 local EM × Fresnel "
+          "blended SRCALPHA/INVSRCALPHA (off-hull triangles only). Between samples: pass 1 the two "
+          "distant EMs blended by TFACTOR alpha (BLENDFACTORALPHA), pass 2 the two local EMs "
+          "likewise and composited over, pass 3 the Fresnel texture modulating the framebuffer "
+          "(DESTCOLOR·ZERO). This gives the paper's 2 and 3 geometry passes and 5 texture accesses.\n"
+       << "- **Layers.** The local layer is every reflected ray that hits the teapot again "
+          "(lid in body counts); the distant layer continues through the teapot (001 §4). "
+          "Radiance above 1 is clipped before inference, as the paper did on 8-bit hardware.\n"
+       << "- **Inference.** Least squares with λ = " << S.inference.smoothness
+       << " on neighbour differences, a parent–children coupling of " << S.inference.levelCoupling
+       << " across MIPMAP levels and a weak pull (" << S.inference.prior
+       << ") to the mean so unseen texels are defined; conjugate gradient (Eigen), then texels "
+          "out of [0, 1] are pinned to the bound and the system solved again.\n"
+       << "- **Box map.** Bottom on the floor under the teapot; each side at the mean distance "
+          "from the EM origin to the room along rays around that axis.\n"
+       << "- **Evaluation viewpoints.** On: sample " << kView << ". Between: halfway to sample "
+       << kView + 1 << ". Above: the same angle, " << num(0.25 * path.radius, 2)
+       << " units higher. Quick quality spaces samples wider than the paper's 1° so that "
+          "'between' is far enough from the samples to matter.\n"
+       << "- **PSNR mask.** Pixels whose every ray-traced sample hits the teapot and that the "
+          "rasterizer covers; the background room is not part of the comparison.\n";
+    md.close();
+    std::printf("pem: on-manifold PSNR layered %.2f dB, static %.2f dB; between layered %.2f, "
+                "single %.2f, ptm %.2f, static %.2f; above layered %.2f, ptm %.2f\n",
+                on.scores["layered_pem"].psnr, on.scores["static_em"].psnr,
+                between.scores["layered_pem"].psnr, between.scores["single_infinite_pem"].psnr,
+                between.scores["ptm"].psnr, between.scores["static_em"].psnr,
+                above.scores["layered_pem"].psnr, above.scores["ptm"].psnr);
+    std::printf("pem: wrote %s\n", (out / "report.md").string().c_str());
+    return r;
+}
+
+}  // namespace rg::pem
