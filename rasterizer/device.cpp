@@ -83,7 +83,8 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     auto vertexOf = [&](uint32_t k) { return indices.empty() ? k : indices[k]; };
 
     // Vertex stage: every submitted vertex once, independent of the others.
-    std::vector<ProcessedVertex> processed(vertices.size());
+    std::vector<ProcessedVertex>& processed = scratchVertices;
+    if (processed.size() < vertices.size()) processed.resize(vertices.size());
     auto processRange = [&](size_t b, size_t e) {
         for (size_t i = b; i < e; ++i)
             processed[i] = processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
@@ -115,7 +116,8 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         const int tilesX = (fb.width() + kTileSize - 1) / kTileSize;
         const int tilesY = (fb.height() + kTileSize - 1) / kTileSize;
         const uint32_t chunkCount = (triangles + kChunk - 1) / kChunk;
-        std::vector<TriangleChunk> chunks(chunkCount);
+        if (scratchChunks.size() < chunkCount) scratchChunks.resize(chunkCount);
+        std::span<TriangleChunk> chunks(scratchChunks.data(), chunkCount);
         std::vector<RasterCounters> tileCounters(size_t(tilesX) * tilesY);
         arena->execute([&] {
             tbb::parallel_for(tbb::blocked_range<size_t>(0, vertices.size(), 4096),
@@ -124,12 +126,16 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
                               });
             tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
                 TriangleChunk& ch = chunks[c];
+                ch.tris.clear();
+                ch.texPlanes.clear();
+                ch.geometry = GeometryCounters{};
                 setupRange(c * kChunk, std::min(triangles, (c + 1) * kChunk), ch.tris, ch.texPlanes,
                            ch.geometry);
                 binChunk(ch, tilesX, tilesY);
             });
             tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
-                rasterizeTile(dc, chunks, tile, tilesX, tileCounters[size_t(tile)]);
+                rasterizeTile(dc, std::span<const TriangleChunk>(chunks), tile, tilesX,
+                              tileCounters[size_t(tile)]);
             });
         });
         for (const TriangleChunk& ch : chunks) gc.add(ch.geometry);

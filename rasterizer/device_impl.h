@@ -9,6 +9,8 @@
 #include <tbb/task_arena.h>
 
 #include "core/error.h"
+#include "pipeline.h"
+#include "raster_tiles.h"
 #include "rasterizer/device.h"
 
 namespace rg::raster {
@@ -28,6 +30,10 @@ struct Device::Impl {
     std::function<void(const PassRecord&, const Framebuffer&)> observer;
     Device::FragmentObserver fragmentObserver;
     std::unique_ptr<tbb::task_arena> arena;
+    // Per-draw scratch kept between draws so that large frames do not page-fault fresh
+    // memory on every call; contents never carry over.
+    std::vector<detail::ProcessedVertex> scratchVertices;
+    std::vector<detail::TriangleChunk> scratchChunks;
 
     Impl(const Profile& p, int w, int h, DepthFormat d, DeviceOptions o)
         : profile(p), options(o), fb(checkedFramebuffer(p, w, h, d)) {

@@ -43,9 +43,26 @@ struct ProcessedVertex {
     glm::vec4 clip{0.0f};        // homogeneous clip position (pre-transformed: w = 1/RHW)
     float wx = 0, wy = 0, wz = 0;  // window position
     float invW = 0;              // 1/w (RHW)
-    std::array<float, kMaxAttrs> attr{};
+    int64_t sx = 0, sy = 0;      // window position snapped to fixed point (snapToFixed)
+    uint32_t outcode = 0;        // bit p: outside clip plane p (computed once per vertex)
     bool valid = true;           // finite position, finite clip coordinates
+    std::array<float, kMaxAttrs> attr{};
 };
+
+// Round to the nearest 1/2^s pixel, halves up: floor(x·2^s + ½), exact in double. The
+// clamp only matters for points the clipper placed a rounding error outside the guard
+// band (and for non-finite positions, which setup rejects anyway); it keeps every
+// snapped coordinate inside the int64 bound above.
+inline int64_t snapToFixed(float x, int s) {
+    const double scale = double(int64_t{1} << s);
+    const double limit = double(kGuardBandPixels + 1) * scale;
+    double v = double(x) * scale + 0.5;
+    if (!(v > -limit)) v = -limit;  // also NaN
+    if (v > limit) v = limit;
+    // floor for the clamped range: truncate, then step down for negative fractions.
+    int64_t t = int64_t(v);
+    return double(t) > v ? t - 1 : t;
+}
 
 // Per-draw constants shared by every stage.
 struct DrawContext {

@@ -183,7 +183,7 @@ QuadWalkFn selectQuadWalk(const DrawContext& dc) {
 
 }  // namespace
 
-void rasterizeTile(const DrawContext& dc, const std::vector<TriangleChunk>& chunks, int tile,
+void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks, int tile,
                    int tilesX, RasterCounters& rc) {
     const int tx = tile % tilesX, ty = tile / tilesX;
     const Box tileBox{tx * kTileSize, ty * kTileSize, tx * kTileSize + kTileSize - 1,

@@ -1,6 +1,7 @@
 // The fast path's screen tiles (internal to rasterizer/; see raster_tiles.cpp).
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "pipeline.h"
@@ -23,7 +24,7 @@ struct TriangleChunk {
 
 void binChunk(TriangleChunk& chunk, int tilesX, int tilesY);
 // Rasterizes every chunk's triangles that touch tile `tile`, in chunk and triangle order.
-void rasterizeTile(const DrawContext& dc, const std::vector<TriangleChunk>& chunks, int tile,
+void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks, int tile,
                    int tilesX, RasterCounters& rc);
 
 }  // namespace rg::raster::detail

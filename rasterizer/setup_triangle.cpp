@@ -10,17 +10,6 @@ namespace rg::raster::detail {
 
 namespace {
 
-// Round to the nearest 1/2^s pixel, halves up: floor(x·2^s + ½), exact in double. The
-// clamp only matters for points the clipper placed a rounding error outside the guard
-// band; it keeps every snapped coordinate inside the int64 bound of pipeline.h.
-int64_t snap(float x, int s) {
-    const double scale = double(int64_t{1} << s);
-    const double limit = double(kGuardBandPixels + 1) * scale;
-    double v = std::floor(double(x) * scale + 0.5);
-    v = std::clamp(v, -limit, limit);
-    return int64_t(v);
-}
-
 // The plane through (0,0,a0), (dx1,dy1,a1), (dx2,dy2,a2), in double, stored in single;
 // invArea = 1/(dx1·dy2 − dx2·dy1) is computed once per triangle.
 Plane makePlane(double a0, double a1, double a2, double dx1, double dy1, double dx2, double dy2,
@@ -48,8 +37,8 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
     const int s = dc.subpixelBits;
     int64_t X[3], Y[3];
     for (int i = 0; i < 3; ++i) {
-        X[i] = snap(v[i]->wx, s);
-        Y[i] = snap(v[i]->wy, s);
+        X[i] = v[i]->sx;
+        Y[i] = v[i]->sy;
     }
 
     // ---- orientation and culling (y points down: area > 0 is clockwise on screen) -------

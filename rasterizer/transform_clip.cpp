@@ -27,10 +27,19 @@ void project(const DrawContext& dc, ProcessedVertex& v) {
         v.wz = dc.vp.minZ + nz * (dc.vp.maxZ - dc.vp.minZ);
     }
     v.invW = 1.0f / c.w;
+    v.sx = snapToFixed(v.wx, dc.subpixelBits);
+    v.sy = snapToFixed(v.wy, dc.subpixelBits);
 }
 
 float planeDistance(const glm::vec4& p, const glm::vec4& c) {
     return ((p.x * c.x + p.y * c.y) + p.z * c.z) + p.w * c.w;
+}
+
+uint32_t outcodeOf(const DrawContext& dc, const glm::vec4& clip) {
+    uint32_t code = 0;
+    for (int p = 0; p < 6; ++p)
+        if (!(planeDistance(dc.planes[p], clip) >= 0.0f)) code |= 1u << p;
+    return code;
 }
 
 // The point where edge in→out crosses a plane, always computed from the inside vertex so
@@ -119,6 +128,8 @@ ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewP
         p.wy = in.y;
         p.wz = in.z;
         p.invW = in.w;
+        p.sx = snapToFixed(p.wx, dc.subpixelBits);
+        p.sy = snapToFixed(p.wy, dc.subpixelBits);
         eye = {in, in, v.normal, v.normal};
     } else {
         glm::vec4 obj(in.x, in.y, in.z, 1.0f);
@@ -133,6 +144,7 @@ ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewP
             eye = {obj, worldView * obj, len > 0.0f ? n / len : n, v.normal};
         }
     }
+    if (p.valid) p.outcode = outcodeOf(dc, p.clip);
     const Rgba8 d = v.diffuse, s = v.specular;
     p.attr[0] = d.r; p.attr[1] = d.g; p.attr[2] = d.b; p.attr[3] = d.a;
     p.attr[4] = s.r; p.attr[5] = s.g; p.attr[6] = s.b; p.attr[7] = s.a;
@@ -177,15 +189,8 @@ void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const Proces
         ++gc.invalid;
         return;
     }
-    // Outcodes: bit p set when the vertex is outside plane p.
-    const ProcessedVertex* v[3] = {&v0, &v1, &v2};
-    float d[3][6];
-    unsigned code[3] = {0, 0, 0};
-    for (int i = 0; i < 3; ++i)
-        for (int p = 0; p < 6; ++p) {
-            d[i][p] = planeDistance(dc.planes[p], v[i]->clip);
-            if (!(d[i][p] >= 0.0f)) code[i] |= 1u << p;
-        }
+    // Outcodes (bit p set when the vertex is outside plane p), computed per vertex.
+    const unsigned code[3] = {v0.outcode, v1.outcode, v2.outcode};
     if (code[0] & code[1] & code[2]) {  // all outside one plane: trivially rejected
         ++gc.culled;
         return;
