@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "fragment_quad.h"
+#include "fragment_quad_sse.h"
 
 namespace rg::raster::detail {
 
@@ -113,10 +114,33 @@ void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgb
 // cheaper than solving row spans with divisions. Wide boxes: exact row spans.
 constexpr int kSpanWalkMinWidth = 16;
 
-template <bool kDepth, bool kBlend, bool kPassThrough>
+// The quads of one triangle inside `box`. Pass-through quads wholly inside the target go
+// to the SSE2 kernel (it loads and stores both rows of the quad), the rest to the scalar
+// template; both compute what processQuad<false, ...> (the reference) computes.
+template <bool kDepth, int kBlendMode, bool kPassThrough>
 void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPool, const Box& box,
               RasterCounters& rc) {
+    constexpr bool kBlend = kBlendMode != kBlendNone;
     const int s = dc.subpixelBits;
+    const int fbW = dc.fb->width(), fbH = dc.fb->height();
+    sse::Planes planes;
+    sse::RowTerms row;
+    if constexpr (kPassThrough)
+        if (dc.gouraud) planes.load(t, dc.st.specularEnable ? 8 : 4);
+    auto quad = [&](int qx, int qy, unsigned coverage) {
+        if constexpr (kPassThrough) {
+            if (qx + 1 < fbW && qy + 1 < fbH) {
+                processQuadSse<kDepth, kBlendMode>(dc, t, planes, row, qx, qy, coverage, rc);
+                return;
+            }
+        }
+        processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, texPool, qx, qy, coverage, rc);
+    };
+    auto startRow = [&](int qy) {
+        if constexpr (kPassThrough)
+            if (dc.gouraud) row.load(planes, t, qy);
+    };
+
     if (box.x1 - box.x0 + 1 < kSpanWalkMinWidth) {
         const int64_t half = int64_t{1} << (s - 1);
         const int qx0 = box.x0 & ~1;
@@ -130,6 +154,7 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
             for (int e = 0; e < 3; ++e) rowE[e] = t.C[e] + t.A[e] * X + t.B[e] * Y;
             // Rows of the quad inside the box.
             const unsigned rowMask = (qy >= box.y0 ? 0x3u : 0u) | (qy + 1 <= box.y1 ? 0xCu : 0u);
+            bool rowStarted = false;
             for (int qx = qx0; qx <= box.x1; qx += 2) {
                 unsigned coverage = 0;
                 for (int i = 0; i < 4; ++i) {
@@ -140,9 +165,10 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
                 }
                 const unsigned colMask = (qx >= box.x0 ? 0x5u : 0u) | (qx + 1 <= box.x1 ? 0xAu : 0u);
                 coverage &= rowMask & colMask;
-                if (coverage)
-                    processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, texPool, qx, qy,
-                                                                    coverage, rc);
+                if (coverage) {
+                    if (!rowStarted) startRow(qy), rowStarted = true;
+                    quad(qx, qy, coverage);
+                }
                 for (int e = 0; e < 3; ++e) rowE[e] += 2 * stepX[e];
             }
         }
@@ -153,6 +179,7 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
         bool row0 = qy >= box.y0 && rowSpan(t, qy, s, box, l0, r0);
         bool row1 = qy + 1 <= box.y1 && rowSpan(t, qy + 1, s, box, l1, r1);
         if (!row0 && !row1) continue;
+        startRow(qy);
         int l = row0 ? (row1 ? std::min(l0, l1) : l0) : l1;
         int r = row0 ? (row1 ? std::max(r0, r1) : r0) : r1;
         for (int qx = l & ~1; qx <= r; qx += 2) {
@@ -161,8 +188,7 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
             coverage |= unsigned(row0 && qx + 1 >= l0 && qx + 1 <= r0) << 1;
             coverage |= unsigned(row1 && qx >= l1 && qx <= r1) << 2;
             coverage |= unsigned(row1 && qx + 1 >= l1 && qx + 1 <= r1) << 3;
-            if (coverage)
-                processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, texPool, qx, qy, coverage, rc);
+            if (coverage) quad(qx, qy, coverage);
         }
     }
 }
@@ -170,15 +196,23 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
 using QuadWalkFn = void (*)(const DrawContext&, const SetupTriangle&, const Plane*, const Box&,
                             RasterCounters&);
 
+template <bool kDepth, bool kPassThrough>
+QuadWalkFn selectBlend(const DrawContext& dc) {
+    const PipelineState& st = dc.st;
+    if (!st.blend) return quadWalk<kDepth, kBlendNone, kPassThrough>;
+    if (st.blendOp == BlendOp::Add && st.srcBlend == BlendFactor::SrcAlpha &&
+        st.dstBlend == BlendFactor::InvSrcAlpha)
+        return quadWalk<kDepth, kBlendSrcAlphaInvSrcAlpha, kPassThrough>;
+    if (st.blendOp == BlendOp::Add && st.srcBlend == BlendFactor::One &&
+        st.dstBlend == BlendFactor::One)
+        return quadWalk<kDepth, kBlendOneOne, kPassThrough>;
+    return quadWalk<kDepth, kBlendGeneric, kPassThrough>;
+}
+
 QuadWalkFn selectQuadWalk(const DrawContext& dc) {
-    static constexpr QuadWalkFn table[8] = {
-        quadWalk<false, false, false>, quadWalk<false, false, true>,
-        quadWalk<false, true, false>,  quadWalk<false, true, true>,
-        quadWalk<true, false, false>,  quadWalk<true, false, true>,
-        quadWalk<true, true, false>,   quadWalk<true, true, true>,
-    };
-    int i = (dc.depthOn ? 4 : 0) | (dc.st.blend ? 2 : 0) | (dc.passThrough ? 1 : 0);
-    return table[i];
+    if (dc.depthOn)
+        return dc.passThrough ? selectBlend<true, true>(dc) : selectBlend<true, false>(dc);
+    return dc.passThrough ? selectBlend<false, true>(dc) : selectBlend<false, false>(dc);
 }
 
 }  // namespace
