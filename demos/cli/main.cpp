@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/profile.h"
+#include "raycore/raytrace_command.h"
 #include "reproductions.h"
 #ifdef RETROGLASS_HAVE_BENCH
 #include "harness.h"
@@ -148,6 +149,19 @@ int main(int argc, char** argv) {
     reproduce->add_option("--scene", scene, "a scene file (docs/scene-format.md) to use instead");
     reproduce->add_option("--views", views, "viewpoint range A:B of a split precompute");
 
+    rg::ray::RaytraceArgs rt;
+    auto* raytrace = app.add_subcommand(
+        "raytrace", "render the ray-traced ground truth of a scene (built-in name or JSON file)");
+    raytrace->add_option("--scene", rt.scene, "built-in scene name or scene file")->required();
+    raytrace->add_option("--camera", rt.camera, "camera name, index, or PATH:I on a viewpoint path");
+    raytrace->add_option("--spp", rt.spp, "n for n×n samples per pixel")->check(CLI::Range(1, 64));
+    raytrace->add_option("--mode", rt.mode, "whitted, two-term or pem-layers")
+        ->check(CLI::IsMember({"whitted", "two-term", "pem-layers"}));
+    raytrace->add_option("--depth", rt.depth, "ray-tree depth")->check(CLI::Range(0, 64));
+    raytrace->add_option("--width", rt.width, "image width")->check(CLI::Range(1, 16384));
+    raytrace->add_option("--height", rt.height, "image height")->check(CLI::Range(1, 16384));
+    raytrace->add_option("--out", rt.out, "output image (.png, .exr, .hdr)")->required();
+
     std::vector<std::string> testArgs;
     auto* test = app.add_subcommand("test", "run the whole test suite through CTest");
     test->add_option("ctest-args", testArgs, "extra arguments for ctest (e.g. -R blend)");
@@ -166,6 +180,10 @@ int main(int argc, char** argv) {
         if (*profiles) return runProfiles();
         if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, g);
         if (*test) return runTests(testArgs, g);
+        if (*raytrace) {
+            rt.threads = g.threads;
+            return rg::ray::runRaytraceCommand(rt);
+        }
 #ifdef RETROGLASS_HAVE_BENCH
         if (*bench) {
             benchOptions.threads = g.threads;
