@@ -16,7 +16,13 @@ inline int64_t toSubTexel(float c, int n) {
     float u = c * float(n);
     if (!(u == u)) u = 0.0f;
     u = std::clamp(u, -4194304.0f, 4194304.0f);
-    return int64_t(std::floor(u * float(1 << kSubTexelBits)));
+    // ⌊v⌋ without a libm call (SSE2 has no floor instruction): truncate, then step down
+    // for negative non-integers. |v| ≤ 2^30, so int32 holds it and float(i) is exact
+    // wherever v has a fraction.
+    const float v = u * float(1 << kSubTexelBits);
+    int32_t i = int32_t(v);
+    if (float(i) > v) --i;
+    return i;
 }
 
 // An integer texel coordinate under an address mode: the index inside [0, n) or -1 for

@@ -12,6 +12,8 @@
 
 #include "core/arith8.h"
 #include "core/error.h"
+#include "cube_select.h"
+#include "stage_arith.h"
 #include "texunit/cube_mapping.h"
 
 namespace rg::tex {
@@ -240,13 +242,16 @@ void TextureUnits::projectQuad(int i, const FragmentQuad& quad, std::array<glm::
     switch (t.desc().target) {
         case TextureTarget::CubeMap: {
             // λ from all four pixels measured on pixel 0's face; then each pixel's own face.
-            const CubeFace f0 = selectCubeFace(glm::vec3(in[0])).face;
             std::array<glm::vec4, 4> onFace;
+            CubeFace f0 = CubeFace::PositiveX;
             for (int p = 0; p < 4; ++p) {
-                CubeCoord cc = projectOntoCubeFace(f0, glm::vec3(in[size_t(p)]));
-                onFace[size_t(p)] = glm::vec4(cc.s, cc.t, 0.0f, 0.0f);
-                CubeCoord own = selectCubeFace(glm::vec3(in[size_t(p)]));
+                const glm::vec3 r(in[size_t(p)]);
+                const CubeCoord own = detail::selectCubeFace(r);
+                if (p == 0) f0 = own.face;
                 c[size_t(p)] = glm::vec4(own.s, own.t, float(int(own.face)), 0.0f);
+                // Same face as pixel 0: the same row of the table, the same numbers.
+                const CubeCoord cc = own.face == f0 ? own : detail::projectOntoCubeFace(f0, r);
+                onFace[size_t(p)] = glm::vec4(cc.s, cc.t, 0.0f, 0.0f);
             }
             lambda = quadLambda(onFace, t.levelSize(base), 2);
             break;
@@ -294,25 +299,19 @@ std::array<Rgba8, 4> TextureUnits::sampleStage(int stage, const FragmentQuad& qu
     int32_t lambda;
     projectQuad(stage, quad, c, lambda);
     uint64_t fetched = 0;
-    for (int p = 0; p < 4; ++p) {
-        if (path == Path::Reference) {
+    if (path == Path::Reference) {
+        for (int p = 0; p < 4; ++p) {
             TapList taps;
             gatherTaps(*u.texture, u.sampler, c[size_t(p)], lambda, taps);
             out[size_t(p)] = resolveTaps(*u.texture, u.sampler, taps);
             fetched += uint64_t(taps.count);
-        } else {
-            out[size_t(p)] = sampleFast(*u.texture, u.sampler, c[size_t(p)], lambda);
         }
-        if (u.colorTable) out[size_t(p)] = applyColorTable(*u.colorTable, out[size_t(p)]);
+    } else {
+        // The level choice once per quad; counts what the reference would fetch.
+        fetched = sampleQuadFast(*u.texture, u.sampler, c, lambda, out);
     }
-    if (path == Path::Fast) {
-        // The fast path counts what the reference would: taps per sample follow from the
-        // level choice and filter alone.
-        const LevelChoice ch = chooseLevels(*u.texture, u.sampler, lambda);
-        uint64_t per = (ch.filter == FilterMode::Linear ? (1u << u.texture->dims()) : 1u) *
-                       (ch.blend ? 2u : 1u);
-        fetched = per * 4;
-    }
+    if (u.colorTable)
+        for (auto& o : out) o = applyColorTable(*u.colorTable, o);
     fetches_->fetch_add(fetched, std::memory_order_relaxed);
     return out;
 }
@@ -343,7 +342,7 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
         for (int p = 0; p < 4; ++p) {
             StageInputs in{quad.diffuse[size_t(p)], quad.specular[size_t(p)], current[size_t(p)],
                            texel[size_t(p)], tfactor_};
-            current[size_t(p)] = evaluateStage(st, in);
+            current[size_t(p)] = detail::evaluateStage(st, in);
         }
     }
     out = current;

@@ -100,5 +100,10 @@ Rgba8 resolveTaps(const Texture& t, const SamplerState& s, const TapList& taps);
 // building the list (falls back to it otherwise).
 Rgba8 sampleFast(const Texture& t, const SamplerState& s, const glm::vec4& coord,
                  int32_t lambda);
+// sampleFast for the four pixels of a quad sharing one λ (the level choice is made once).
+// Returns the texel fetches the reference would count.
+uint64_t sampleQuadFast(const Texture& t, const SamplerState& s,
+                        const std::array<glm::vec4, 4>& coords, int32_t lambda,
+                        std::array<Rgba8, 4>& out);
 
 }  // namespace rg::tex

@@ -1,0 +1,154 @@
+// Internal: the stage arithmetic as inline functions, so that the per-quad cascade in
+// texture_units.cpp inlines it; stages.cpp exports the same functions for tests and
+// applications (docs/hardware.md, "Texture stages").
+#pragma once
+
+#include <algorithm>
+
+#include "core/arith8.h"
+#include "texunit/stages.h"
+
+namespace rg::tex::detail {
+
+using namespace rg::arith8;
+
+inline uint8_t lerp255(uint8_t a, uint8_t b, uint8_t w) {
+    // a·w + b·(255 − w) ≤ 255·255, the range in which Blinn's divide-by-255 is exact.
+    uint32_t t = uint32_t(a) * w + uint32_t(b) * (255u - w) + 128u;
+    return uint8_t((t + (t >> 8)) >> 8);
+}
+
+inline uint8_t dotProduct3(Rgba8 a, Rgba8 b) {
+    // 4·Σ(a−½)(b−½) = Σ(2a−1)(2b−1); in 8 bits Σ(2a−255)(2b−255)/255², times 255.
+    // s/255 is never a half-integer (255 is odd), so ⌊(s + 127)/255⌋ rounds exactly.
+    int32_t s = (2 * a.r - 255) * (2 * b.r - 255) + (2 * a.g - 255) * (2 * b.g - 255) +
+                (2 * a.b - 255) * (2 * b.b - 255);
+    if (s <= 0) return 0;
+    return uint8_t(std::min<int32_t>(255, (s + 127) / 255));
+}
+
+inline uint8_t combineChannel(TextureOp op, uint8_t a1, uint8_t a2, uint8_t a0, uint8_t alpha) {
+    switch (op) {
+        case TextureOp::SelectArg1: return a1;
+        case TextureOp::SelectArg2: return a2;
+        case TextureOp::Modulate: return uint8_t(mulDiv255(a1, a2));
+        case TextureOp::Modulate2x: return uint8_t(std::min(mulDiv255(a1, a2) << 1, 255u));
+        case TextureOp::Modulate4x: return uint8_t(std::min(mulDiv255(a1, a2) << 2, 255u));
+        case TextureOp::Add: return uint8_t(addSat(a1, a2));
+        case TextureOp::AddSigned: return uint8_t(clamp255(int32_t(a1) + a2 - 128));
+        case TextureOp::AddSigned2x: return uint8_t(clamp255(2 * (int32_t(a1) + a2 - 128)));
+        case TextureOp::Subtract: return uint8_t(subSat(a1, a2));
+        case TextureOp::AddSmooth: return uint8_t(a1 + mulDiv255(a2, 255u - a1));
+        case TextureOp::BlendDiffuseAlpha:
+        case TextureOp::BlendTextureAlpha:
+        case TextureOp::BlendFactorAlpha:
+        case TextureOp::BlendCurrentAlpha: return detail::lerp255(a1, a2, alpha);
+        case TextureOp::BlendTextureAlphaPM: return uint8_t(addSat(a1, mulDiv255(a2, 255u - alpha)));
+        case TextureOp::Lerp: return detail::lerp255(a1, a2, a0);
+        default: return a1;
+    }
+}
+
+inline Rgba8 selectArg(uint8_t a, const StageInputs& in) {
+    Rgba8 v;
+    switch (a & arg::SourceMask) {
+        case arg::Diffuse: v = in.diffuse; break;
+        case arg::Current: v = in.current; break;
+        case arg::Texture: v = in.texture; break;
+        case arg::TFactor: v = in.tfactor; break;
+        case arg::Specular: v = in.specular; break;
+        default: v = in.current; break;
+    }
+    if (a & arg::AlphaReplicate) v = {v.a, v.a, v.a, v.a};
+    if (a & arg::Complement)
+        v = {uint8_t(255 - v.r), uint8_t(255 - v.g), uint8_t(255 - v.b), uint8_t(255 - v.a)};
+    return v;
+}
+
+inline uint8_t blendAlphaFor(TextureOp op, const StageInputs& in) {
+    switch (op) {
+        case TextureOp::BlendDiffuseAlpha: return in.diffuse.a;
+        case TextureOp::BlendTextureAlpha:
+        case TextureOp::BlendTextureAlphaPM: return in.texture.a;
+        case TextureOp::BlendFactorAlpha: return in.tfactor.a;
+        case TextureOp::BlendCurrentAlpha: return in.current.a;
+        default: return 0;
+    }
+}
+
+inline uint8_t scale(uint8_t v, uint8_t shift) {
+    return shift == 0 ? v : uint8_t(std::min(uint32_t(v) << shift, 255u));
+}
+
+inline Rgba8 evaluateStage(const StageState& st, const StageInputs& in) {
+    Rgba8 out = in.current;
+    // ---- colour ----------------------------------------------------------------------
+    const Rgba8 c1 = detail::selectArg(st.colorArg1, in), c2 = detail::selectArg(st.colorArg2, in);
+    bool dot3 = false;
+    switch (st.colorOp) {
+        case TextureOp::Disable:
+        case TextureOp::PreModulate: break;  // colour passes; the texture premultiplies the next stage's
+        case TextureOp::ModulateAlphaAddColor:
+            out.r = uint8_t(addSat(c1.r, mulDiv255(c1.a, c2.r)));
+            out.g = uint8_t(addSat(c1.g, mulDiv255(c1.a, c2.g)));
+            out.b = uint8_t(addSat(c1.b, mulDiv255(c1.a, c2.b)));
+            break;
+        case TextureOp::ModulateColorAddAlpha:
+            out.r = uint8_t(addSat(mulDiv255(c1.r, c2.r), c1.a));
+            out.g = uint8_t(addSat(mulDiv255(c1.g, c2.g), c1.a));
+            out.b = uint8_t(addSat(mulDiv255(c1.b, c2.b), c1.a));
+            break;
+        case TextureOp::ModulateInvAlphaAddColor:
+            out.r = uint8_t(addSat(c1.r, mulDiv255(255u - c1.a, c2.r)));
+            out.g = uint8_t(addSat(c1.g, mulDiv255(255u - c1.a, c2.g)));
+            out.b = uint8_t(addSat(c1.b, mulDiv255(255u - c1.a, c2.b)));
+            break;
+        case TextureOp::ModulateInvColorAddAlpha:
+            out.r = uint8_t(addSat(mulDiv255(255u - c1.r, c2.r), c1.a));
+            out.g = uint8_t(addSat(mulDiv255(255u - c1.g, c2.g), c1.a));
+            out.b = uint8_t(addSat(mulDiv255(255u - c1.b, c2.b), c1.a));
+            break;
+        case TextureOp::DotProduct3: {
+            // Direct3D 7: the dot product is replicated to all four channels, alpha too,
+            // whatever ALPHAOP says.
+            uint8_t d = detail::dotProduct3(c1, c2);
+            out = {d, d, d, d};
+            dot3 = true;
+            break;
+        }
+        default: {
+            const Rgba8 c0 = detail::selectArg(st.colorArg0, in);
+            const uint8_t ba = blendAlphaFor(st.colorOp, in);
+            out.r = detail::combineChannel(st.colorOp, c1.r, c2.r, c0.r, ba);
+            out.g = detail::combineChannel(st.colorOp, c1.g, c2.g, c0.g, ba);
+            out.b = detail::combineChannel(st.colorOp, c1.b, c2.b, c0.b, ba);
+            break;
+        }
+    }
+    out.r = scale(out.r, st.colorScaleShift);
+    out.g = scale(out.g, st.colorScaleShift);
+    out.b = scale(out.b, st.colorScaleShift);
+    if (dot3) return out;
+
+    // ---- alpha -----------------------------------------------------------------------
+    // ALPHAOP DISABLE with COLOROP enabled keeps the current alpha (D3D7 leaves it open).
+    switch (st.alphaOp) {
+        case TextureOp::Disable:
+        case TextureOp::PreModulate: out.a = in.current.a; break;
+        case TextureOp::DotProduct3: {
+            const Rgba8 a1 = detail::selectArg(st.alphaArg1, in), a2 = detail::selectArg(st.alphaArg2, in);
+            out.a = detail::dotProduct3(a1, a2);
+            break;
+        }
+        default: {
+            const uint8_t a1 = detail::selectArg(st.alphaArg1, in).a, a2 = detail::selectArg(st.alphaArg2, in).a;
+            const uint8_t a0 = detail::selectArg(st.alphaArg0, in).a;
+            out.a = detail::combineChannel(st.alphaOp, a1, a2, a0, blendAlphaFor(st.alphaOp, in));
+            break;
+        }
+    }
+    out.a = scale(out.a, st.alphaScaleShift);
+    return out;
+}
+
+}  // namespace rg::tex::detail
