@@ -22,7 +22,7 @@ glm::vec3 Environment::lookup(glm::vec3 d) const {
             const float pi = std::numbers::pi_v<float>;
             float u = 0.5f + std::atan2(d.x, -d.z) / (2.0f * pi);
             float v = std::acos(std::clamp(d.y, -1.0f, 1.0f)) / pi;
-            return intensity * sampleBilinearWrap(*image, {u, v});
+            return intensity * sampleBilinearWrap(*image, {u, v}, true);
         }
     }
     return color;

@@ -78,14 +78,16 @@ void writeImage(const std::filesystem::path& path, const Image& image) {
     out->close();
 }
 
-glm::vec3 sampleBilinearWrap(const Image& image, glm::vec2 uv) {
+glm::vec3 sampleBilinearWrap(const Image& image, glm::vec2 uv, bool clampV) {
     if (image.empty()) return glm::vec3(1.0f, 0.0f, 1.0f);
     float x = uv.x * image.width - 0.5f, y = uv.y * image.height - 0.5f;
     float fx = std::floor(x), fy = std::floor(y);
     float ax = x - fx, ay = y - fy;
     auto wrap = [](long v, int n) { return int(((v % n) + n) % n); };
     int x0 = wrap(long(fx), image.width), x1 = wrap(long(fx) + 1, image.width);
-    int y0 = wrap(long(fy), image.height), y1 = wrap(long(fy) + 1, image.height);
+    auto clamp = [](long v, int n) { return int(v < 0 ? 0 : (v >= n ? n - 1 : v)); };
+    int y0 = clampV ? clamp(long(fy), image.height) : wrap(long(fy), image.height);
+    int y1 = clampV ? clamp(long(fy) + 1, image.height) : wrap(long(fy) + 1, image.height);
     glm::vec3 a = glm::mix(image.rgb(x0, y0), image.rgb(x1, y0), ax);
     glm::vec3 b = glm::mix(image.rgb(x0, y1), image.rgb(x1, y1), ax);
     return glm::mix(a, b, ay);

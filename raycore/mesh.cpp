@@ -156,6 +156,26 @@ Bounds computeBounds(const Mesh& mesh) {
     return b;
 }
 
+glm::vec3 areaWeightedCentroid(const Mesh& mesh, int part) {
+    uint32_t first = 0, count = uint32_t(mesh.triangleCount());
+    if (part >= 0) {
+        first = mesh.parts.at(size_t(part)).firstTriangle;
+        count = mesh.parts.at(size_t(part)).triangleCount;
+    }
+    // Accumulate in double: 40k small triangles in float would lose the low bits.
+    glm::dvec3 sum(0.0);
+    double area = 0.0;
+    for (uint32_t t = first; t < first + count; ++t) {
+        glm::dvec3 a = mesh.positions[mesh.indices[3 * size_t(t)]];
+        glm::dvec3 b = mesh.positions[mesh.indices[3 * size_t(t) + 1]];
+        glm::dvec3 c = mesh.positions[mesh.indices[3 * size_t(t) + 2]];
+        double w = 0.5 * glm::length(glm::cross(b - a, c - a));
+        sum += w * (a + b + c) / 3.0;
+        area += w;
+    }
+    return area > 0.0 ? glm::vec3(sum / area) : glm::vec3(0.0f);
+}
+
 void transformMesh(Mesh& mesh, const glm::mat4& m) {
     glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(m)));
     for (glm::vec3& p : mesh.positions) p = glm::vec3(m * glm::vec4(p, 1.0f));

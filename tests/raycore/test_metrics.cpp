@@ -88,3 +88,41 @@ TEST(ImageIO, PngQuantizesByRoundingAndEXRKeepsFloats) {
 
 }  // namespace
 }  // namespace rg::ray
+
+#include "raycore/scene_json.h"
+#include "raycore/texture.h"
+
+namespace rg::ray {
+namespace {
+
+TEST(ImageIO, ImageTextureAndLatLongEnvironmentReadTheirTexels) {
+    auto dir = test::tempDir("env_image");
+    // 8×4 lat-long: top two rows red (the sky), bottom two blue (the ground).
+    Image env(8, 4, 3);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) env.setRgb(x, y, y < 2 ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1));
+    writeImage(dir / "sky.exr", env);
+    Image tex(2, 2, 3);
+    tex.setRgb(0, 0, {1, 1, 1});
+    tex.setRgb(1, 0, {0, 0, 0});
+    tex.setRgb(0, 1, {0, 0, 0});
+    tex.setRgb(1, 1, {1, 1, 1});
+    writeImage(dir / "tex.png", tex);
+    test::writeText(dir / "s.json", R"({
+      "environment": {"type": "image", "file": "sky.exr", "intensity": 2},
+      "textures": [{"name": "t", "type": "image", "file": "tex.png"}],
+      "materials": [{"name": "m", "texture": "t"}],
+      "objects": [{"shape": "cube", "material": "m"}]
+    })");
+    std::vector<std::string> warnings;
+    Scene s = loadSceneJson(dir / "s.json", &warnings);
+    EXPECT_EQ(s.environment.lookup({0, 1, 0}), glm::vec3(2, 0, 0));   // straight up: sky ×2
+    EXPECT_EQ(s.environment.lookup({0, -1, 0}), glm::vec3(0, 0, 2));  // straight down
+    // Texel centres of the 2×2 checker.
+    EXPECT_EQ(s.textures[0].eval({0.25f, 0.25f}), glm::vec3(1.0f));
+    EXPECT_EQ(s.textures[0].eval({0.75f, 0.25f}), glm::vec3(0.0f));
+    EXPECT_EQ(s.textures[0].eval({1.25f, 0.25f}), glm::vec3(1.0f));  // wraps
+}
+
+}  // namespace
+}  // namespace rg::ray

@@ -102,3 +102,26 @@ TEST(Shapes, BunnyLoadsClosed) {
 
 }  // namespace
 }  // namespace rg::ray
+
+namespace rg::ray {
+namespace {
+
+TEST(Shapes, AreaWeightedCentroidOfSymmetricShapes) {
+    // A cube's faces balance at its centre; a cube moved by t has its centroid at t.
+    Mesh cube = makeCube(1.0f);
+    glm::vec3 c = areaWeightedCentroid(cube);
+    EXPECT_NEAR(glm::length(c), 0.0f, 1e-6f);
+    transformMesh(cube, glm::mat4(glm::vec4(1, 0, 0, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, 1, 0),
+                                  glm::vec4(2, 3, 4, 1)));
+    c = areaWeightedCentroid(cube);
+    EXPECT_NEAR(c.x, 2.0f, 1e-5f);
+    EXPECT_NEAR(c.y, 3.0f, 1e-5f);
+    EXPECT_NEAR(c.z, 4.0f, 1e-5f);
+    // A room's floor part alone sits on the floor.
+    Mesh room = makeRoom({-1, 0, -1}, {1, 2, 1});
+    EXPECT_NEAR(areaWeightedCentroid(room, room.findPart("floor")).y, 0.0f, 1e-6f);
+    EXPECT_NEAR(areaWeightedCentroid(room).y, 1.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace rg::ray

@@ -38,8 +38,9 @@ void writeImage(const std::filesystem::path& path, const Image& image);
 uint8_t quantize8(float v);
 std::vector<uint8_t> toBytes8(const Image& image);
 
-// Texel lookup with wrap-around addressing and bilinear filtering (uv in [0,1] spans the
-// image once; v = 0 is the top row).
-glm::vec3 sampleBilinearWrap(const Image& image, glm::vec2 uv);
+// Texel lookup with bilinear filtering (uv in [0,1] spans the image once; v = 0 is the top
+// row). u always wraps around; v wraps too unless clampV (lat-long maps: the poles are
+// edges, not a seam).
+glm::vec3 sampleBilinearWrap(const Image& image, glm::vec2 uv, bool clampV = false);
 
 }  // namespace rg::ray

@@ -72,6 +72,10 @@ struct Bounds {
 };
 Bounds computeBounds(const Mesh& mesh);
 
+// Σ area·centroid / Σ area over the triangles (of one part when part ≥ 0): 001 §4's
+// environment-map origin ("an area-weighted average of the object's triangle centroids").
+glm::vec3 areaWeightedCentroid(const Mesh& mesh, int part = -1);
+
 // Applies an affine transform to positions and (by the inverse transpose) normals.
 void transformMesh(Mesh& mesh, const glm::mat4& m);
 
