@@ -10,19 +10,21 @@
 
 namespace rg::tex::detail {
 
+// ⌊v⌋ for |v| < 2^31 without a libm call (SSE2 has no floor instruction): truncate, then
+// step down for negative non-integers; float(i) is exact wherever v has a fraction.
+inline int32_t floorToInt(float v) {
+    int32_t i = int32_t(v);
+    if (float(i) > v) --i;
+    return i;
+}
+
 // ⌊c·n·2^kSubTexelBits⌋ with c·n rounded once to float and clamped to ±2^22 texels so
 // that the fixed-point value fits comfortably in 64 bits; NaN counts as 0.
 inline int64_t toSubTexel(float c, int n) {
     float u = c * float(n);
     if (!(u == u)) u = 0.0f;
     u = std::clamp(u, -4194304.0f, 4194304.0f);
-    // ⌊v⌋ without a libm call (SSE2 has no floor instruction): truncate, then step down
-    // for negative non-integers. |v| ≤ 2^30, so int32 holds it and float(i) is exact
-    // wherever v has a fraction.
-    const float v = u * float(1 << kSubTexelBits);
-    int32_t i = int32_t(v);
-    if (float(i) > v) --i;
-    return i;
+    return floorToInt(u * float(1 << kSubTexelBits));  // |u·256| ≤ 2^30
 }
 
 // An integer texel coordinate under an address mode: the index inside [0, n) or -1 for

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "addressing.h"
 #include "texunit/sampler.h"
 
 namespace rg::tex {
@@ -16,7 +17,7 @@ constexpr int32_t kLambdaZero = -(1 << 20);
 int32_t fixedFromFloat(float v) {
     if (!(v == v)) return 0;
     v = std::clamp(v, -4096.0f, 4096.0f);
-    return int32_t(std::floor(v * float(kLodOne) + 0.5f));
+    return detail::floorToInt(v * float(kLodOne) + 0.5f);
 }
 }  // namespace
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 
 #include "core/arith8.h"
 #include "texunit/stages.h"
@@ -150,5 +151,66 @@ inline Rgba8 evaluateStage(const StageState& st, const StageInputs& in) {
     out.a = scale(out.a, st.alphaScaleShift);
     return out;
 }
+
+
+// ---- the fast path: one stage on a whole quad --------------------------------------
+// The op is a template argument, so each instantiation is the op's arithmetic alone
+// (the switch leaves the pixel loop). Same functions, same order as evaluateStage():
+// identical bytes (TextureUnits.ShadeQuadFastMatchesReferenceUnderRandomStates).
+template <TextureOp kOp>
+inline void colorQuad(const StageState& st, const std::array<StageInputs, 4>& in,
+                      std::array<Rgba8, 4>& out) {
+    for (int p = 0; p < 4; ++p) {
+        const StageInputs& x = in[size_t(p)];
+        const Rgba8 c1 = detail::selectArg(st.colorArg1, x), c2 = detail::selectArg(st.colorArg2, x);
+        const Rgba8 c0 = kOp == TextureOp::Lerp ? detail::selectArg(st.colorArg0, x) : Rgba8{};
+        const uint8_t ba = blendAlphaFor(kOp, x);
+        Rgba8& o = out[size_t(p)];
+        o = x.current;
+        o.r = scale(detail::combineChannel(kOp, c1.r, c2.r, c0.r, ba), st.colorScaleShift);
+        o.g = scale(detail::combineChannel(kOp, c1.g, c2.g, c0.g, ba), st.colorScaleShift);
+        o.b = scale(detail::combineChannel(kOp, c1.b, c2.b, c0.b, ba), st.colorScaleShift);
+    }
+}
+
+template <TextureOp kOp>
+inline void alphaQuad(const StageState& st, const std::array<StageInputs, 4>& in,
+                      std::array<Rgba8, 4>& out) {
+    for (int p = 0; p < 4; ++p) {
+        const StageInputs& x = in[size_t(p)];
+        const uint8_t a1 = detail::selectArg(st.alphaArg1, x).a, a2 = detail::selectArg(st.alphaArg2, x).a;
+        const uint8_t a0 = kOp == TextureOp::Lerp ? detail::selectArg(st.alphaArg0, x).a : uint8_t(0);
+        out[size_t(p)].a = scale(detail::combineChannel(kOp, a1, a2, a0, blendAlphaFor(kOp, x)),
+                                 st.alphaScaleShift);
+    }
+}
+
+#define RG_TEX_CHANNEL_OPS(X)                                                              \
+    X(SelectArg1) X(SelectArg2) X(Modulate) X(Modulate2x) X(Modulate4x) X(Add) X(AddSigned) \
+    X(AddSigned2x) X(Subtract) X(AddSmooth) X(BlendDiffuseAlpha) X(BlendTextureAlpha)       \
+    X(BlendFactorAlpha) X(BlendTextureAlphaPM) X(BlendCurrentAlpha) X(Lerp)
+
+inline void evaluateStageQuad(const StageState& st, const std::array<StageInputs, 4>& in,
+                              std::array<Rgba8, 4>& out) {
+    switch (st.colorOp) {
+#define RG_TEX_CASE(op) \
+    case TextureOp::op: colorQuad<TextureOp::op>(st, in, out); break;
+        RG_TEX_CHANNEL_OPS(RG_TEX_CASE)
+#undef RG_TEX_CASE
+        default:  // the ops that mix colour and alpha, and DOTPRODUCT3: per pixel
+            for (int p = 0; p < 4; ++p) out[size_t(p)] = detail::evaluateStage(st, in[size_t(p)]);
+            return;
+    }
+    switch (st.alphaOp) {
+#define RG_TEX_CASE(op) \
+    case TextureOp::op: alphaQuad<TextureOp::op>(st, in, out); break;
+        RG_TEX_CHANNEL_OPS(RG_TEX_CASE)
+#undef RG_TEX_CASE
+        default:
+            for (int p = 0; p < 4; ++p) out[size_t(p)].a = detail::evaluateStage(st, in[size_t(p)]).a;
+            break;
+    }
+}
+#undef RG_TEX_CHANNEL_OPS
 
 }  // namespace rg::tex::detail

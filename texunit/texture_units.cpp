@@ -339,10 +339,15 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
             premod = texel;
             havePremod = true;
         }
-        for (int p = 0; p < 4; ++p) {
-            StageInputs in{quad.diffuse[size_t(p)], quad.specular[size_t(p)], current[size_t(p)],
-                           texel[size_t(p)], tfactor_};
-            current[size_t(p)] = detail::evaluateStage(st, in);
+        std::array<StageInputs, 4> in;
+        for (int p = 0; p < 4; ++p)
+            in[size_t(p)] = {quad.diffuse[size_t(p)], quad.specular[size_t(p)], current[size_t(p)],
+                             texel[size_t(p)], tfactor_};
+        if (path == Path::Reference) {
+            // The reference: the docs' per-pixel definition, one pixel at a time.
+            for (int p = 0; p < 4; ++p) current[size_t(p)] = detail::evaluateStage(st, in[size_t(p)]);
+        } else {
+            detail::evaluateStageQuad(st, in, current);
         }
     }
     out = current;

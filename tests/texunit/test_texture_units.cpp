@@ -179,7 +179,8 @@ TEST(TextureUnits, PreModulateMultipliesTheNextStagesTexture) {
     EXPECT_EQ(out[0], (Rgba8{128, 128, 32, 128}));
 }
 
-// A random stage state within what the GeForce 256 / GeForce3 can take.
+// A random stage state: every op, argument modifier and scale (validity per profile is
+// not the point here, equal bytes are).
 StageState randomStage(Rng& rng, int sets) {
     StageState s;
     auto anyArg = [&] {
@@ -188,12 +189,19 @@ StageState randomStage(Rng& rng, int sets) {
         if (rng.below(4) == 0) a |= arg::AlphaReplicate;
         return a;
     };
-    s.colorOp = TextureOp(1 + rng.below(uint32_t(TextureOp::DotProduct3)));  // SelectArg1..DotProduct3
-    s.alphaOp = TextureOp(1 + rng.below(uint32_t(TextureOp::BlendCurrentAlpha)));
+    // Every op (SelectArg1..Lerp) as COLOROP; as ALPHAOP every op but the colour-only ones.
+    s.colorOp = TextureOp(1 + rng.below(uint32_t(TextureOp::Lerp)));
+    do {
+        s.alphaOp = TextureOp(1 + rng.below(uint32_t(TextureOp::Lerp)));
+    } while (s.alphaOp >= TextureOp::ModulateAlphaAddColor && s.alphaOp <= TextureOp::ModulateInvColorAddAlpha);
     s.colorArg1 = anyArg();
     s.colorArg2 = anyArg();
+    s.colorArg0 = anyArg();
     s.alphaArg1 = anyArg();
     s.alphaArg2 = anyArg();
+    s.alphaArg0 = anyArg();
+    s.colorScaleShift = uint8_t(rng.below(4) == 0 ? rng.below(3) : 0);
+    s.alphaScaleShift = uint8_t(rng.below(4) == 0 ? rng.below(3) : 0);
     s.texCoordIndex = uint8_t(rng.below(uint32_t(sets)));
     return s;
 }
