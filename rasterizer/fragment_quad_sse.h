@@ -14,6 +14,8 @@
 
 #include <emmintrin.h>
 
+#include <cmath>
+
 #include "fragment_quad.h"
 
 namespace rg::raster::detail {
@@ -91,6 +93,11 @@ inline __m128i channelToInt(__m128 v) {
 struct Planes {
     __m128 c[8], dx[8], dy[8];
     __m128 wc, wdx, wdy;
+    // 1/w without slope (orthographic projections, equal RHW): the per-pixel 1.0f/w is
+    // the same value for every pixel, so it is computed once; when it is exactly 1 the
+    // ·r is the identity and is skipped. Both are exact, not approximations.
+    bool flatW = false, unitW = false;
+    __m128 flatR;
     int count = 0;
     void load(const SetupTriangle& t, int n) {
         count = n;
@@ -102,6 +109,11 @@ struct Planes {
         wc = _mm_set1_ps(t.invW.c);
         wdx = _mm_set1_ps(t.invW.dx);
         wdy = _mm_set1_ps(t.invW.dy);
+        flatW = t.invW.dx == 0.0f && t.invW.dy == 0.0f && std::isfinite(t.invW.c) &&
+                t.invW.c != 0.0f;
+        const float r = 1.0f / t.invW.c;
+        unitW = flatW && r == 1.0f;
+        flatR = _mm_set1_ps(r);
     }
 };
 
@@ -153,12 +165,17 @@ inline void processQuadSse(const DrawContext& dc, const SetupTriangle& t, const 
                                              float(qx) + 0.5f, float(qx + 1) + 0.5f),
                                  _mm_set1_ps(t.x0));
     __m128 r = _mm_set1_ps(1.0f);
+    const bool perspective = dc.perspectiveColor && !planes.unitW;
     if (dc.gouraud) {
-        if (dc.perspectiveColor) {
-            __m128 w = _mm_add_ps(_mm_add_ps(planes.wc, _mm_mul_ps(planes.wdx, fx)), row.wdyfy);
-            r = _mm_div_ps(_mm_set1_ps(1.0f), w);
+        if (perspective) {
+            if (planes.flatW) {
+                r = planes.flatR;
+            } else {
+                __m128 w = _mm_add_ps(_mm_add_ps(planes.wc, _mm_mul_ps(planes.wdx, fx)), row.wdyfy);
+                r = _mm_div_ps(_mm_set1_ps(1.0f), w);
+            }
         }
-        src = sse::colors(planes, row, 0, fx, dc.perspectiveColor, r);
+        src = sse::colors(planes, row, 0, fx, perspective, r);
     } else {
         uint32_t bits;
         std::memcpy(&bits, &t.flatDiffuse, 4);
@@ -167,7 +184,7 @@ inline void processQuadSse(const DrawContext& dc, const SetupTriangle& t, const 
     if (st.specularEnable) {
         __m128i spec;
         if (dc.gouraud) {
-            spec = sse::colors(planes, row, 4, fx, dc.perspectiveColor, r);
+            spec = sse::colors(planes, row, 4, fx, perspective, r);
         } else {
             uint32_t bits;
             std::memcpy(&bits, &t.flatSpecular, 4);
@@ -181,24 +198,29 @@ inline void processQuadSse(const DrawContext& dc, const SetupTriangle& t, const 
     Framebuffer& fb = *dc.fb;
     const size_t width = size_t(fb.width());
     const size_t row0 = size_t(qy) * width + size_t(qx), row1 = row0 + width;
-    alignas(16) uint8_t bytes[16];
-    _mm_store_si128(reinterpret_cast<__m128i*>(bytes), src);
-    unsigned passed = 0;
-    for (int i = 0; i < 4; ++i) {
-        if (!(coverage & (1u << i))) continue;
-        ++rc.generated;
-        if (st.alphaTest && !comparePasses(st.alphaFunc, bytes[4 * i + 3], st.alphaRef)) continue;
-        if constexpr (kDepth) {
-            const int px = qx + (i & 1), py = qy + (i >> 1);
-            const size_t idx = (i >> 1) ? row1 + (i & 1) : row0 + (i & 1);
-            double z = (t.zc + t.zdx * ((double(px) + 0.5) - double(t.x0))) +
-                       t.zdy * ((double(py) + 0.5) - double(t.y0));
-            uint32_t zq = quantizeDepth(z, dc.depthMax);
-            uint32_t& stored = fb.depth()[idx];
-            if (!comparePasses(st.depthFunc, zq, stored)) continue;
-            if (st.depthWrite) stored = zq;
+    unsigned passed = coverage;
+    if (!kDepth && !st.alphaTest) {
+        rc.generated += sse::kPopcount4[coverage];
+    } else {
+        alignas(16) uint8_t bytes[16];
+        _mm_store_si128(reinterpret_cast<__m128i*>(bytes), src);
+        passed = 0;
+        for (int i = 0; i < 4; ++i) {
+            if (!(coverage & (1u << i))) continue;
+            ++rc.generated;
+            if (st.alphaTest && !comparePasses(st.alphaFunc, bytes[4 * i + 3], st.alphaRef)) continue;
+            if constexpr (kDepth) {
+                const int px = qx + (i & 1), py = qy + (i >> 1);
+                const size_t idx = (i >> 1) ? row1 + (i & 1) : row0 + (i & 1);
+                double z = (t.zc + t.zdx * ((double(px) + 0.5) - double(t.x0))) +
+                           t.zdy * ((double(py) + 0.5) - double(t.y0));
+                uint32_t zq = quantizeDepth(z, dc.depthMax);
+                uint32_t& stored = fb.depth()[idx];
+                if (!comparePasses(st.depthFunc, zq, stored)) continue;
+                if (st.depthWrite) stored = zq;
+            }
+            passed |= 1u << i;
         }
-        passed |= 1u << i;
     }
     if (!passed) return;
     const int n = sse::kPopcount4[passed];
@@ -222,6 +244,11 @@ inline void processQuadSse(const DrawContext& dc, const SetupTriangle& t, const 
         __m128i hi = sse::blend2(sf, df, op, _mm_unpackhi_epi8(src, zero), _mm_unpackhi_epi8(dst, zero));
         out = _mm_packus_epi16(lo, hi);
         rc.blendOps += uint64_t(n);
+    }
+    if (passed == 0xFu && st.colorWriteMask == kWriteRGBA) {  // the common whole quad
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(color + row0), out);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(color + row1), _mm_srli_si128(out, 8));
+        return;
     }
     const uint32_t channels = (st.colorWriteMask & kWriteR ? 0x000000FFu : 0u) |
                               (st.colorWriteMask & kWriteG ? 0x0000FF00u : 0u) |

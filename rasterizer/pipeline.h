@@ -142,8 +142,30 @@ ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewP
                               const Vertex& v);
 // Primitive assembly: vertex numbers of triangle `i` and its flat-shading (provoking)
 // vertex; the provoking vertex is always element 0 of the returned order.
-uint32_t triangleCount(Primitive p, uint32_t vertexCount);
-std::array<uint32_t, 3> triangleVertices(Primitive p, uint32_t i);
+inline uint32_t triangleCount(Primitive p, uint32_t n) {
+    switch (p) {
+        case Primitive::TriangleList: return n / 3;
+        case Primitive::TriangleStrip:
+        case Primitive::TriangleFan: return n >= 3 ? n - 2 : 0;
+    }
+    return 0;
+}
+
+// Strips: triangle i is (i, i+1, i+2), odd ones as (i, i+2, i+1) to keep the winding;
+// the provoking vertex is the first (D3D7 flat shading). Fans: (i+1, i+2, 0), a rotation
+// of (0, i+1, i+2) with the same winding, so that the provoking vertex is i+1, the
+// Direct3D rule for flat-shaded fans.
+inline std::array<uint32_t, 3> triangleVertices(Primitive p, uint32_t i) {
+    switch (p) {
+        case Primitive::TriangleList: return {3 * i, 3 * i + 1, 3 * i + 2};
+        case Primitive::TriangleStrip:
+            return (i & 1u) ? std::array<uint32_t, 3>{i, i + 2, i + 1}
+                            : std::array<uint32_t, 3>{i, i + 1, i + 2};
+        case Primitive::TriangleFan: return {i + 1, i + 2, 0};
+    }
+    return {0, 0, 0};
+}
+
 // Clips one triangle and sets up what reaches rasterization, appending to `out`.
 void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
                   const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,

@@ -156,30 +156,6 @@ ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewP
     return p;
 }
 
-uint32_t triangleCount(Primitive p, uint32_t n) {
-    switch (p) {
-        case Primitive::TriangleList: return n / 3;
-        case Primitive::TriangleStrip:
-        case Primitive::TriangleFan: return n >= 3 ? n - 2 : 0;
-    }
-    return 0;
-}
-
-// Strips: triangle i is (i, i+1, i+2), odd ones as (i, i+2, i+1) to keep the winding;
-// the provoking vertex is the first (D3D7 flat shading). Fans: (i+1, i+2, 0), a rotation
-// of (0, i+1, i+2) with the same winding, so that the provoking vertex is i+1, the
-// Direct3D rule for flat-shaded fans.
-std::array<uint32_t, 3> triangleVertices(Primitive p, uint32_t i) {
-    switch (p) {
-        case Primitive::TriangleList: return {3 * i, 3 * i + 1, 3 * i + 2};
-        case Primitive::TriangleStrip:
-            return (i & 1u) ? std::array<uint32_t, 3>{i, i + 2, i + 1}
-                            : std::array<uint32_t, 3>{i, i + 1, i + 2};
-        case Primitive::TriangleFan: return {i + 1, i + 2, 0};
-    }
-    return {0, 0, 0};
-}
-
 void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
                   const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
                   std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
@@ -195,16 +171,17 @@ void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const Proces
         ++gc.culled;
         return;
     }
-    SetupTriangle t;
     if ((code[0] | code[1] | code[2]) == 0) {
-        if (setupTriangle(dc, v0, v1, v2, flatDiffuse, flatSpecular, t, texPool)) {
-            out.push_back(t);
+        // Set up in place; a culled triangle is popped again.
+        if (setupTriangle(dc, v0, v1, v2, flatDiffuse, flatSpecular, out.emplace_back(), texPool)) {
             ++gc.drawn;
         } else {
+            out.pop_back();
             ++gc.culled;
         }
         return;
     }
+    SetupTriangle t;
 
     // Sutherland–Hodgman against each plane some vertex is outside of.
     ++gc.clipped;
