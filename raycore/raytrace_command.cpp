@@ -52,6 +52,8 @@ int runRaytraceCommand(const RaytraceArgs& args) {
         if (args.out.empty()) throw Error("raytrace: --out IMG is required");
         if (args.spp < 1 || args.spp > 64) throw Error("raytrace: --spp must be in 1..64");
         if (args.width < 1 || args.height < 1) throw Error("raytrace: image size must be positive");
+        if (args.mode != "whitted" && args.mode != "two-term" && args.mode != "pem-layers")
+            throw Error("raytrace: unknown --mode '" + args.mode + "' (whitted, two-term, pem-layers)");
         std::vector<std::string> warnings;
         Scene scene = loadSceneByName(args.scene, &warnings);
         for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -142,6 +142,7 @@ float pathConfidence(const std::vector<glm::vec3>& dirs, float thetaCDegrees) {
 TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const RenderOptions& o) {
     TwoTermImages im;
     for (Image* i : {&im.reflectTerm, &im.refractTerm, &im.reflectFG, &im.refractFG,
+                     &im.reflectF, &im.refractF, &im.reflectG, &im.refractG,
                      &im.reflectRadiance, &im.refractRadiance, &im.direct, &im.sum})
         *i = Image(o.width, o.height, 3);
     im.reflectConfidence = Image(o.width, o.height, 1, 1.0f);
@@ -152,7 +153,7 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
         std::vector<glm::vec3> dirsR, dirsT;
         for (int x = 0; x < o.width; ++x) {
             glm::vec3 termR(0.0f), termT(0.0f), fgR(0.0f), fgT(0.0f), radR(0.0f), radT(0.0f),
-                direct(0.0f);
+                direct(0.0f), fR(0.0f), fT(0.0f), gR(0.0f), gT(0.0f);
             dirsR.clear();
             dirsT.clear();
             for (int sy = 0; sy < n; ++sy)
@@ -165,6 +166,8 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
                     if (s.reflect.valid) {
                         glm::vec3 fg = s.reflect.F * s.reflect.G;
                         fgR += fg;
+                        fR += s.reflect.F;
+                        gR += s.reflect.G;
                         radR += s.reflect.radiance;
                         termR += s.reflect.radiance * fg;
                         dirsR.push_back(s.reflect.exitRay.dir);
@@ -172,6 +175,8 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
                     if (s.refract.valid) {
                         glm::vec3 fg = s.refract.F * s.refract.G;
                         fgT += fg;
+                        fT += s.refract.F;
+                        gT += s.refract.G;
                         radT += s.refract.radiance;
                         termT += s.refract.radiance * fg;
                         dirsT.push_back(s.refract.exitRay.dir);
@@ -181,6 +186,10 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
             im.refractTerm.setRgb(x, y, termT * inv);
             im.reflectFG.setRgb(x, y, fgR * inv);
             im.refractFG.setRgb(x, y, fgT * inv);
+            im.reflectF.setRgb(x, y, fR * inv);
+            im.refractF.setRgb(x, y, fT * inv);
+            if (!dirsR.empty()) im.reflectG.setRgb(x, y, gR / float(dirsR.size()));
+            if (!dirsT.empty()) im.refractG.setRgb(x, y, gT / float(dirsT.size()));
             im.reflectRadiance.setRgb(x, y, radR * inv);
             im.refractRadiance.setRgb(x, y, radT * inv);
             im.direct.setRgb(x, y, direct * inv);

@@ -82,8 +82,10 @@ TEST(TwoTerm, TermsSumToTheImageAndFGProductsStayBelowOne) {
                 // With a white environment and no absorption each term is its FG.
                 ASSERT_NEAR(im.reflectTerm.at(x, y, c), im.reflectFG.at(x, y, c), 1e-6f);
             }
-    // Centre: F_R + F_T = 0.04 + 0.9216.
+    // Centre: F_R + F_T = 0.04 + 0.9216; no absorption, so G = 1 and FG = F.
     EXPECT_NEAR(im.reflectFG.at(20, 15, 0) + im.refractFG.at(20, 15, 0), 0.9616f, 2e-3f);
+    EXPECT_NEAR(im.reflectF.at(20, 15, 0), im.reflectFG.at(20, 15, 0), 1e-6f);
+    EXPECT_NEAR(im.refractG.at(20, 15, 1), 1.0f, 1e-6f);
 }
 
 TEST(TwoTerm, ApproximatesTheFullRayTree) {

@@ -46,6 +46,8 @@ TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, int maxDepth,
 struct TwoTermImages {
     Image reflectTerm, refractTerm;    // R·F_R·G_R and T·F_T·G_T (RGB, sample averages)
     Image reflectFG, refractFG;        // F_R·G_R and F_T·G_T
+    Image reflectF, refractF;          // F_R, F_T alone (sample averages)
+    Image reflectG, refractG;          // G_R, G_T alone (sample averages over valid paths)
     Image reflectRadiance, refractRadiance;  // R and T
     Image direct;                      // see TwoTermSample::direct
     Image sum;                         // direct + reflectTerm + refractTerm
