@@ -50,7 +50,12 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
         std::swap(X[1], X[2]);
         std::swap(Y[1], Y[2]);
         std::swap(v[1], v[2]);
+        area = -area;
     }
+    // 1/area in pixels², started early so that the division overlaps the edge setup.
+    // double(area)·2^−2s equals dx1·dy2 − dx2·dy1 below exactly: every term is an integer
+    // multiple of 2^−2s below 2^53.
+    const double invArea = 1.0 / (double(area) * std::ldexp(1.0, -2 * s));
 
     // ---- pixel box: samples at pixel centres (X << s) + half ---------------------------
     const int64_t half = int64_t{1} << (s - 1);
@@ -81,7 +86,6 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
     double x0 = double(X[0]) * inv, y0 = double(Y[0]) * inv;
     double dx1 = double(X[1]) * inv - x0, dy1 = double(Y[1]) * inv - y0;
     double dx2 = double(X[2]) * inv - x0, dy2 = double(Y[2]) * inv - y0;
-    const double invArea = 1.0 / (dx1 * dy2 - dx2 * dy1);
     t.x0 = float(x0);
     t.y0 = float(y0);
 
