@@ -225,6 +225,21 @@ TEST(Sampler4D, QuadrilinearAtAKnownPoint) {
     EXPECT_EQ(resolveTaps(*t, s, taps).r, 3 * 2 + 5 * 0 + 7 * 3 + 11 * 1);
 }
 
+TEST(SamplerCube, FacesFilterClampToEdgeWhateverTheSamplerSays) {
+    TextureMemory mem(profile(ProfileId::GeForce256));
+    auto cube = makeRgba8(mem, {TextureTarget::CubeMap, TexelFormat::RGBA8, 8, 8, 1, 1, 1},
+                          [](int, int f, int x, int, int, int) { return Rgba8{uint8_t(f * 20 + x * 10), 0, 0, 255}; });
+    SamplerState s;  // WRAP on every axis: ignored on cube faces
+    for (int f = 0; f < 6; ++f) {
+        TapList taps;
+        // s = 0 with LINEAR: WRAP would mix texel 7 in (f·20 + 35); the edge gives f·20.
+        gatherTaps(*cube, s, glm::vec4(0.0f, 0.5f, float(f), 0), kMagnify, taps);
+        EXPECT_EQ(resolveTaps(*cube, s, taps).r, f * 20) << "face " << f;
+        for (int i = 0; i < taps.count; ++i) EXPECT_EQ(taps.taps[size_t(i)].face, f);
+        EXPECT_EQ(sampleFast(*cube, s, glm::vec4(1.0f, 0.5f, float(f), 0), kMagnify).r, f * 20 + 70);
+    }
+}
+
 TEST(SamplerFastPath, MatchesReferenceUnderRandomStates) {
     TextureMemory mem(profile(ProfileId::GeForce8800));
     Rng rng(2024);

@@ -111,6 +111,75 @@ TEST(StageOps, DotProduct3) {
         }
 }
 
+// The four ops that mix colour and alpha, on every (x, y) pair: arg1 = DIFFUSE =
+// (x, 255 − x, 128, y), arg2 = TEXTURE = (y, x, 255, 0); per channel against
+//   MODULATEALPHA_ADDCOLOR     a1 + a1.a·a2
+//   MODULATECOLOR_ADDALPHA     a1·a2 + a1.a
+//   MODULATEINVALPHA_ADDCOLOR  a1 + (1 − a1.a)·a2
+//   MODULATEINVCOLOR_ADDALPHA  (1 − a1)·a2 + a1.a
+// each product rounded once, the sum saturated.
+TEST(StageOps, ColourAlphaMixOpsExhaustive65536Pairs) {
+    auto m = [](int a, int b) { return rnd(a * b / 255.0); };
+    const TextureOp ops[] = {TextureOp::ModulateAlphaAddColor, TextureOp::ModulateColorAddAlpha,
+                             TextureOp::ModulateInvAlphaAddColor, TextureOp::ModulateInvColorAddAlpha};
+    for (TextureOp op : ops) {
+        StageState st;
+        st.colorOp = op;
+        st.colorArg1 = arg::Diffuse;
+        st.colorArg2 = arg::Texture;
+        st.alphaOp = TextureOp::SelectArg1;
+        st.alphaArg1 = arg::Diffuse;
+        for (int x = 0; x < 256; ++x)
+            for (int y = 0; y < 256; ++y) {
+                const Rgba8 a1{uint8_t(x), uint8_t(255 - x), 128, uint8_t(y)};
+                const Rgba8 a2{uint8_t(y), uint8_t(x), 255, 0};
+                const Rgba8 o = evaluateStage(st, {a1, {}, {}, a2, {}});
+                for (int c = 0; c < 3; ++c) {
+                    const int u = (&a1.r)[c], v = (&a2.r)[c], al = a1.a;
+                    int expect = 0;
+                    switch (op) {
+                        case TextureOp::ModulateAlphaAddColor: expect = sat(u + m(al, v)); break;
+                        case TextureOp::ModulateColorAddAlpha: expect = sat(m(u, v) + al); break;
+                        case TextureOp::ModulateInvAlphaAddColor: expect = sat(u + m(255 - al, v)); break;
+                        default: expect = sat(m(255 - u, v) + al); break;
+                    }
+                    ASSERT_EQ((&o.r)[c], expect) << textureOpName(op) << " x=" << x << " y=" << y << " c=" << c;
+                }
+                ASSERT_EQ(o.a, y);
+            }
+    }
+}
+
+TEST(StageOps, ColourAlphaMixOpsAndDot3OnEdgeValues) {
+    // arg1 = DIFFUSE, arg2 = TEXTURE; one channel shown (all three are equal here).
+    struct Row { TextureOp op; uint8_t c1, a1, c2, expect; };
+    const Row rows[] = {
+        {TextureOp::ModulateAlphaAddColor, 128, 128, 128, 192},     // 128 + 64
+        {TextureOp::ModulateAlphaAddColor, 255, 255, 255, 255},
+        {TextureOp::ModulateAlphaAddColor, 0, 0, 255, 0},
+        {TextureOp::ModulateColorAddAlpha, 128, 128, 128, 192},     // 64 + 128
+        {TextureOp::ModulateColorAddAlpha, 0, 255, 0, 255},
+        {TextureOp::ModulateInvAlphaAddColor, 128, 128, 255, 255},  // 128 + 127
+        {TextureOp::ModulateInvAlphaAddColor, 0, 255, 255, 0},
+        {TextureOp::ModulateInvColorAddAlpha, 128, 0, 255, 127},
+        {TextureOp::ModulateInvColorAddAlpha, 255, 128, 255, 128},
+        {TextureOp::DotProduct3, 255, 0, 255, 255},
+        {TextureOp::DotProduct3, 128, 0, 255, 3},
+        {TextureOp::DotProduct3, 0, 0, 255, 0},
+    };
+    for (const Row& r : rows) {
+        StageState st;
+        st.colorOp = r.op;
+        st.colorArg1 = arg::Diffuse;
+        st.colorArg2 = arg::Texture;
+        st.alphaOp = TextureOp::SelectArg1;
+        st.alphaArg1 = arg::Diffuse;
+        const Rgba8 o = evaluateStage(st, {{r.c1, r.c1, r.c1, r.a1}, {}, {}, {r.c2, r.c2, r.c2, 77}, {}});
+        EXPECT_EQ(o.r, r.expect) << textureOpName(r.op);
+        EXPECT_EQ(o.b, r.expect) << textureOpName(r.op);
+    }
+}
+
 StageInputs inputs() {
     return {{200, 100, 50, 128}, {1, 2, 3, 4}, {10, 20, 30, 40}, {255, 128, 0, 64}, {9, 8, 7, 6}};
 }
