@@ -131,6 +131,8 @@ bool sameCounters(const Counters& a, const Counters& b) {
 }
 
 // One session: a pair of devices receiving the same `draws` random commands.
+int texturedDraws = 0;
+
 void runSession(uint64_t seed, int draws, int& totalDraws, Counters& sum) {
     Rng r(seed);
     const int sizes[][2] = {{97, 71}, {64, 64}, {130, 33}, {17, 9}, {200, 150}};
@@ -174,15 +176,33 @@ void runSession(uint64_t seed, int draws, int& totalDraws, Counters& sum) {
         std::vector<uint32_t> indices;
         if (r.p(0.3))
             for (int i = 0; i < r.i(3, 15); ++i) indices.push_back(uint32_t(r.i(0, n - 1)));
+        // Sometimes a texture stage that reads only the diffuse, specular and factor
+        // colours: not pass-through, so the quads go through FragmentQuad, helper pixels
+        // and TextureUnits::shadeQuad on both paths.
+        tex::StageState stage;
+        if (r.p(0.2)) {
+            const tex::TextureOp ops[] = {tex::TextureOp::Modulate, tex::TextureOp::Add,
+                                          tex::TextureOp::SelectArg1, tex::TextureOp::Subtract};
+            const uint8_t args[] = {tex::arg::Diffuse, tex::arg::Specular, tex::arg::TFactor};
+            stage.colorOp = ops[r.i(0, 3)];
+            stage.colorArg1 = args[r.i(0, 2)];
+            stage.colorArg2 = args[r.i(0, 2)];
+            stage.alphaOp = tex::TextureOp::SelectArg1;
+            stage.alphaArg1 = args[r.i(0, 2)];
+        }
+        const Rgba8 factor{r.byte(), r.byte(), r.byte(), r.byte()};
         const bool doClear = r.p(0.03);
         const Rgba8 clearColor{r.byte(), r.byte(), r.byte(), r.byte()};
         const float clearDepth = r.f(0.0f, 1.0f);
 
+        texturedDraws += stage.colorOp != tex::TextureOp::Disable;
         for (Device* d : both) {
             d->setState(s);
             d->setViewport(vp);
             d->setScissor(sc);
             d->setTransforms(world, view, proj);
+            d->textureUnits().setStage(0, stage);
+            d->textureUnits().setTextureFactor(factor);
             if (doClear) d->clear(true, clearColor, true, clearDepth);
             d->draw(prim, space, verts, indices);
         }
@@ -228,6 +248,7 @@ TEST(PathsAgree, TenThousandRandomDrawsGiveIdenticalBytesAndCounters) {
     EXPECT_GT(sum.trianglesDrawn, 10000u);
     EXPECT_GT(sum.fragmentsWritten, 1000000u);
     EXPECT_GT(sum.blendOps, 100000u);
+    EXPECT_GT(texturedDraws, 1000);
     std::printf("[ stats    ] %s", sum.toString().c_str());
 }
 
