@@ -169,6 +169,15 @@ void TextureMemory::upload(Texture& t, int level, int face, std::span<const uint
     pool_->uploadBytes += expect;
 }
 
+void TextureMemory::upload(Texture& t, int level, int face, std::span<const Rgba8> texels) {
+    if (t.desc().format != TexelFormat::RGBA8)
+        throw InvalidState("Rgba8 texels uploaded to a " + std::string(t.format().name) +
+                           " texture; upload its packed bytes instead");
+    static_assert(sizeof(Rgba8) == 4);
+    upload(t, level, face,
+           std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(texels.data()), texels.size() * 4));
+}
+
 void TextureMemory::buildBoxMipmaps(Texture& t) {
     const TexelFormat f = t.desc().format;
     if (f != TexelFormat::RGBA8 && f != TexelFormat::RGB8 && f != TexelFormat::L8 &&

@@ -51,6 +51,17 @@ void TextureUnits::setStage(int i, const StageState& s) {
     checkStage(i);
     if (s.colorOp >= TextureOp::Count || s.alphaOp >= TextureOp::Count)
         throw InvalidState("texture op out of range at stage " + std::to_string(i));
+    if (s.texCoordIndex >= kMaxTexCoordSets)
+        throw InvalidState("stage " + std::to_string(i) + ": texture coordinate index " +
+                           std::to_string(s.texCoordIndex) + " outside [0, " +
+                           std::to_string(kMaxTexCoordSets) + ")");
+    if (s.colorScaleShift > 2 || s.alphaScaleShift > 2)
+        throw InvalidState("stage " + std::to_string(i) + ": scale shift above 2 (scale 4)");
+    for (uint8_t a : {s.colorArg0, s.colorArg1, s.colorArg2, s.alphaArg0, s.alphaArg1, s.alphaArg2})
+        if ((a & arg::SourceMask) > arg::Specular ||
+            (a & ~(arg::SourceMask | arg::Complement | arg::AlphaReplicate)) != 0)
+            throw InvalidState("stage " + std::to_string(i) + ": texture argument 0x" +
+                               std::to_string(int(a)) + " is not a D3DTA_ value");
     units_[size_t(i)].stage = s;
 }
 const StageState& TextureUnits::stage(int i) const {
@@ -86,7 +97,10 @@ const TexGenState& TextureUnits::texGen(int set) const {
     checkSet(set);
     return texGen_[size_t(set)];
 }
-void TextureUnits::setPixelTexture(const PixelTextureState& s) { pixelTexture_ = s; }
+void TextureUnits::setPixelTexture(const PixelTextureState& s) {
+    checkStage(s.stage);
+    pixelTexture_ = s;
+}
 void TextureUnits::setTextureMemory(std::shared_ptr<TextureMemory> m) { memory_ = std::move(m); }
 
 TextureCounters TextureUnits::counters() const {

@@ -3,6 +3,8 @@
 // states), and the instrumented tap query the PEM demo uses.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "core/error.h"
 #include "tex_test_util.h"
 #include "texunit/cube_mapping.h"
@@ -293,6 +295,54 @@ TEST(TextureUnits, TapQueryReproducesTheSampleAndItsWeightsSumToOne) {
         }
     }
     EXPECT_EQ(tu.queryTaps(5, FragmentQuad{}, 0).count, 0);  // no texture: no taps
+}
+
+TEST(TextureUnits, NonFiniteCoordinatesAreSafeAndPathsStillAgree) {
+    Fixture fx;
+    const float bad[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                         -std::numeric_limits<float>::infinity(), 1e30f, -1e30f, 0.0f, -0.0f};
+    Rng rng(13);
+    for (const auto& t : {fx.tex2d, fx.cube, fx.fresnel}) {
+        TextureUnits tu;
+        tu.setTexture(0, t);
+        SamplerState s;
+        s.mipFilter = MipMode::Linear;
+        tu.setSampler(0, s);
+        tu.setStage(0, op(TextureOp::Modulate));
+        TexGenState g;
+        g.projected = true;
+        tu.setTexGen(0, g);
+        for (int k = 0; k < 2000; ++k) {
+            FragmentQuad q;
+            for (auto& c : q.texCoord[0])
+                for (int i = 0; i < 4; ++i) c[i] = rng.below(3) ? rng.uniform(-2, 2) : bad[rng.below(7)];
+            std::array<Rgba8, 4> ref, fast;
+            tu.shadeQuad(q, ref, Path::Reference);
+            tu.shadeQuad(q, fast, Path::Fast);
+            ASSERT_EQ(ref, fast) << k;
+        }
+    }
+}
+
+TEST(TextureUnits, SettersRefuseOutOfRangeState) {
+    TextureUnits tu;
+    StageState s;
+    s.colorOp = TextureOp::Modulate;
+    s.texCoordIndex = kMaxTexCoordSets;
+    EXPECT_THROW(tu.setStage(0, s), InvalidState);
+    s.texCoordIndex = 0;
+    s.colorArg1 = 7;
+    EXPECT_THROW(tu.setStage(0, s), InvalidState);
+    s.colorArg1 = arg::Texture | 0x40;
+    EXPECT_THROW(tu.setStage(0, s), InvalidState);
+    s.colorArg1 = arg::Texture;
+    s.colorScaleShift = 3;
+    EXPECT_THROW(tu.setStage(0, s), InvalidState);
+    EXPECT_THROW(tu.setPixelTexture({true, PixelTexGenMode::Rgba, uint8_t(kMaxStages)}), InvalidState);
+    EXPECT_THROW(tu.setTexGen(kMaxTexCoordSets, TexGenState{}), InvalidState);
+    Fixture fx;
+    auto l8 = fx.mem->create({TextureTarget::Texture2D, TexelFormat::L8, 2, 2, 1, 1, 1});
+    EXPECT_THROW(fx.mem->upload(*l8, 0, 0, std::vector<Rgba8>(4)), InvalidState);
 }
 
 TEST(TextureUnits, CountersCountFetchesAndUploads) {

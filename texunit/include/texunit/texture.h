@@ -109,8 +109,8 @@ class TextureMemory {
     // Uploads one level of one face from packed bytes in the format's layout (rows x
     // fastest). Throws rg::InvalidState when `bytes` does not hold exactly the level.
     void upload(Texture& texture, int level, int face, std::span<const uint8_t> bytes);
-    // Convenience for RGBA8 textures and any 8-bit format given pre-expanded texels is
-    // NOT offered on purpose: upload the format's own bytes so memory counts are honest.
+    // RGBA8 textures only: the same bytes seen as Rgba8 texels (R, G, B, A in memory).
+    void upload(Texture& texture, int level, int face, std::span<const Rgba8> texels);
 
     // Builds levels 1.. of every face from level 0 by 2×…×2 box filtering (round to
     // nearest, per component of the packed format's expansion) and uploads them. Only
