@@ -18,6 +18,14 @@ glm::vec3 Texture::eval(glm::vec2 uv) const {
     return glm::vec3(1, 0, 1);
 }
 
+Image bakeTexture(const Texture& t, int width, int height) {
+    Image img(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            img.setRgb(x, y, t.eval({(float(x) + 0.5f) / float(width), (float(y) + 0.5f) / float(height)}));
+    return img;
+}
+
 const char* textureKindName(TextureKind k) {
     switch (k) {
         case TextureKind::Checker: return "checker";

@@ -126,3 +126,43 @@ TEST(ImageIO, ImageTextureAndLatLongEnvironmentReadTheirTexels) {
 
 }  // namespace
 }  // namespace rg::ray
+
+#include "raycore/texture_procedural.h"
+
+namespace rg::ray {
+namespace {
+
+TEST(Textures, ProceduralPatternsHaveTheirDocumentedStructure) {
+    const glm::vec3 a(1.0f), b(0.0f);
+    // Checker: scale squares per uv unit, alternating.
+    EXPECT_EQ(checkerPattern({0.05f, 0.05f}, 4.0f, a, b), a);
+    EXPECT_EQ(checkerPattern({0.30f, 0.05f}, 4.0f, a, b), b);
+    EXPECT_EQ(checkerPattern({0.30f, 0.30f}, 4.0f, a, b), a);
+    // Bricks: mortar on row boundaries, brick inside (shaded 0.8..1 of the brick colour).
+    EXPECT_EQ(bricksPattern({0.3f, 0.0f}, 1.0f, a, b), b);
+    glm::vec3 brick = bricksPattern({0.3f, 0.25f}, 1.0f, a, b);
+    EXPECT_GE(brick.x, 0.8f);
+    // Gradient: ends and middle.
+    EXPECT_EQ(gradientPattern({0.0f, 0.0f}, a, b), a);
+    EXPECT_EQ(gradientPattern({0.0f, 1.0f}, a, b), b);
+    EXPECT_NEAR(gradientPattern({0.0f, 0.5f}, a, b).x, 0.5f, 1e-6f);
+    // Wood: stays between its two colours.
+    for (int i = 0; i < 100; ++i) {
+        glm::vec3 w = woodRingsPattern({i * 0.0137f, i * 0.0071f}, 4.0f, a, b);
+        EXPECT_GE(w.x, 0.0f);
+        EXPECT_LE(w.x, 1.0f);
+    }
+    // Baking samples texel centres.
+    Texture t;
+    t.kind = TextureKind::Checker;
+    t.scale = 2.0f;
+    t.colorA = a;
+    t.colorB = b;
+    Image img = bakeTexture(t, 4, 4);
+    EXPECT_EQ(img.rgb(0, 0), a);
+    EXPECT_EQ(img.rgb(2, 0), b);
+    EXPECT_EQ(img.rgb(2, 2), a);
+}
+
+}  // namespace
+}  // namespace rg::ray

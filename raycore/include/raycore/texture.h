@@ -25,6 +25,10 @@ struct Texture {
     glm::vec3 eval(glm::vec2 uv) const;
 };
 
+// The texture sampled at texel centres over uv ∈ [0,1]² (v = 0 the top row): what the
+// rasterizer demos upload to draw the same surfaces the ray tracer sees.
+Image bakeTexture(const Texture& t, int width, int height);
+
 const char* textureKindName(TextureKind k);
 // Raises rg::Error for an unknown name.
 TextureKind textureKindFromName(const std::string& name);
