@@ -119,7 +119,19 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         if (scratchChunks.size() < chunkCount) scratchChunks.resize(chunkCount);
         std::span<TriangleChunk> chunks(scratchChunks.data(), chunkCount);
         std::vector<RasterCounters> tileCounters(size_t(tilesX) * tilesY);
-        arena->execute([&] {
+        const bool multi = arena->max_concurrency() > 1;
+        if (arena->max_concurrency() == 1) {
+            // One thread: set up and rasterize chunk by chunk, no binning (raster_tiles.h).
+            processRange(0, vertices.size());
+            if (scratchChunks.empty()) scratchChunks.resize(1);
+            TriangleChunk& ch = scratchChunks[0];
+            for (uint32_t b = 0; b < triangles; b += kChunk) {
+                ch.tris.clear();
+                ch.texPlanes.clear();
+                setupRange(b, std::min(triangles, b + kChunk), ch.tris, ch.texPlanes, gc);
+                rasterizeChunk(dc, ch, rc);
+            }
+        } else arena->execute([&] {
             tbb::parallel_for(tbb::blocked_range<size_t>(0, vertices.size(), 4096),
                               [&](const tbb::blocked_range<size_t>& r) {
                                   processRange(r.begin(), r.end());
@@ -138,8 +150,10 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
                               tileCounters[size_t(tile)]);
             });
         });
-        for (const TriangleChunk& ch : chunks) gc.add(ch.geometry);
-        for (const RasterCounters& t : tileCounters) rc.add(t);
+        if (multi) {
+            for (const TriangleChunk& ch : chunks) gc.add(ch.geometry);
+            for (const RasterCounters& t : tileCounters) rc.add(t);
+        }
     }
     counters.trianglesSubmitted += gc.submitted;
     counters.trianglesCulled += gc.culled;

@@ -241,3 +241,25 @@ void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks,
 }
 
 }  // namespace rg::raster::detail
+
+namespace rg::raster::detail {
+
+// One thread: no tiles to share out, so each chunk is rasterized right after its setup
+// while its triangles are still in cache, each triangle over its whole box. Quads are
+// even-aligned in both cases, so splitting a box at tile edges or not visits the same
+// quads with the same coverage, and submission order is kept: the same bytes.
+void rasterizeChunk(const DrawContext& dc, const TriangleChunk& chunk, RasterCounters& rc) {
+    const QuadWalkFn walk = selectQuadWalk(dc);
+    const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
+                              !dc.st.blend;
+    for (const SetupTriangle& t : chunk.tris) {
+        const Box box{t.minX, t.minY, t.maxX, t.maxY};
+        Rgba8 color;
+        if (spanFillable && constantColor(dc, t, color))
+            spanFill(dc, t, box, color, rc);
+        else
+            walk(dc, t, chunk.texPlanes.data(), box, rc);
+    }
+}
+
+}  // namespace rg::raster::detail

@@ -27,4 +27,7 @@ void binChunk(TriangleChunk& chunk, int tilesX, int tilesY);
 void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks, int tile,
                    int tilesX, RasterCounters& rc);
 
+// Single-thread variant: the chunk's triangles in order, each over its whole box.
+void rasterizeChunk(const DrawContext& dc, const TriangleChunk& chunk, RasterCounters& rc);
+
 }  // namespace rg::raster::detail
