@@ -172,3 +172,44 @@ TEST(BadInput, MalformedTeapotFile) {
 
 }  // namespace
 }  // namespace rg::ray
+
+namespace rg::ray {
+namespace {
+
+TEST(MeshFiles, PlyAndGltfLoadThroughAssimp) {
+    auto dir = test::tempDir("mesh_formats");
+    // A tetrahedron as ASCII PLY.
+    test::writeText(dir / "tet.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+                    "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    Mesh ply = loadMesh(dir / "tet.ply");
+    EXPECT_EQ(ply.triangleCount(), 4u);
+    EXPECT_EQ(ply.normals.size(), ply.positions.size());
+    // One triangle as glTF 2.0 with an external buffer: 3 float3 positions, 3 uint16 indices.
+    {
+        std::ofstream bin(dir / "tri.bin", std::ios::binary);
+        const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        const uint16_t idx[4] = {0, 1, 2, 0};  // padded to 4-byte alignment
+        bin.write(reinterpret_cast<const char*>(pos), sizeof pos);
+        bin.write(reinterpret_cast<const char*>(idx), sizeof idx);
+    }
+    test::writeText(dir / "tri.gltf", R"({
+      "asset": {"version": "2.0"},
+      "scenes": [{"nodes": [0]}], "scene": 0, "nodes": [{"mesh": 0}],
+      "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+      "buffers": [{"uri": "tri.bin", "byteLength": 44}],
+      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                      {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+      "accessors": [
+        {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+         "min": [0, 0, 0], "max": [1, 1, 0]},
+        {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]
+    })");
+    Mesh gltf = loadMesh(dir / "tri.gltf");
+    EXPECT_EQ(gltf.triangleCount(), 1u);
+    EXPECT_EQ(gltf.positions.size(), 3u);
+}
+
+}  // namespace
+}  // namespace rg::ray
