@@ -55,7 +55,7 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
     // 1/area in pixels², started early so that the division overlaps the edge setup.
     // double(area)·2^−2s equals dx1·dy2 − dx2·dy1 below exactly: every term is an integer
     // multiple of 2^−2s below 2^53.
-    const double invArea = 1.0 / (double(area) * std::ldexp(1.0, -2 * s));
+    const double invArea = 1.0 / (double(area) * (1.0 / double(int64_t{1} << (2 * s))));
 
     // ---- pixel box: samples at pixel centres (X << s) + half ---------------------------
     const int64_t half = int64_t{1} << (s - 1);
