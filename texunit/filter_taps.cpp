@@ -57,22 +57,31 @@ void gatherTaps(const Texture& t, const SamplerState& s, const glm::vec4& coord,
     }
 }
 
-Rgba8 resolveTaps(const Texture& t, const SamplerState& s, const TapList& taps) {
-    if (t.isFloat()) {
-        // Float formats: the same weights, accumulated in double in tap order.
-        double acc[4] = {0, 0, 0, 0};
-        const double scale = 1.0 / double(uint64_t(1) << taps.weightBits);
-        for (int i = 0; i < taps.count; ++i) {
-            const TexelTap& tp = taps.taps[size_t(i)];
-            glm::vec4 c = tp.border ? glm::vec4(s.borderColor.r, s.borderColor.g, s.borderColor.b,
-                                                s.borderColor.a) / 255.0f
-                                    : t.texelFloat(tp.level, tp.face, tp.xyzw[0], tp.xyzw[1],
-                                                   tp.xyzw[2], tp.xyzw[3]);
-            const double w = double(tp.weight) * scale;
-            for (int k = 0; k < 4; ++k) acc[k] += w * double(c[k]);
+glm::vec4 resolveTapsFloat(const Texture& t, const SamplerState& s, const TapList& taps) {
+    double acc[4] = {0, 0, 0, 0};
+    const double scale = 1.0 / double(uint64_t(1) << taps.weightBits);
+    const glm::vec4 border = glm::vec4(s.borderColor.r, s.borderColor.g, s.borderColor.b,
+                                       s.borderColor.a) / 255.0f;
+    for (int i = 0; i < taps.count; ++i) {
+        const TexelTap& tp = taps.taps[size_t(i)];
+        glm::vec4 c;
+        if (tp.border) {
+            c = border;
+        } else if (t.isFloat()) {
+            c = t.texelFloat(tp.level, tp.face, tp.xyzw[0], tp.xyzw[1], tp.xyzw[2], tp.xyzw[3]);
+        } else {
+            const Rgba8 v = t.texel8(tp.level, tp.face, tp.xyzw[0], tp.xyzw[1], tp.xyzw[2], tp.xyzw[3]);
+            c = glm::vec4(v.r, v.g, v.b, v.a) / 255.0f;
         }
-        return floatToRgba8(glm::vec4(float(acc[0]), float(acc[1]), float(acc[2]), float(acc[3])));
+        const double w = double(tp.weight) * scale;
+        for (int k = 0; k < 4; ++k) acc[k] += w * double(c[k]);
     }
+    return glm::vec4(float(acc[0]), float(acc[1]), float(acc[2]), float(acc[3]));
+}
+
+Rgba8 resolveTaps(const Texture& t, const SamplerState& s, const TapList& taps) {
+    // Float formats: the same weights, accumulated in double in tap order, converted once.
+    if (t.isFloat()) return floatToRgba8(resolveTapsFloat(t, s, taps));
     // 8-bit formats: Σ weight·texel exactly in 64 bits, one rounding (half up) at the end.
     uint64_t acc[4] = {0, 0, 0, 0};
     for (int i = 0; i < taps.count; ++i) {

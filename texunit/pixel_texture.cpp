@@ -3,6 +3,8 @@
 
 #include "texunit/texture_units.h"
 
+#include "fetch_counter.h"
+
 namespace rg::tex {
 
 void TextureUnits::applyPixelTransfer(std::span<Rgba8> pixels) const {
@@ -40,7 +42,7 @@ void TextureUnits::applyPixelTransfer(std::span<Rgba8> pixels) const {
         if (pixelTexture_.mode == PixelTexGenMode::Rgb) v.a = px.a;
         px = v;
     }
-    fetches_->fetch_add(fetched, std::memory_order_relaxed);
+    fetches_->add(fetched);
 }
 
 }  // namespace rg::tex

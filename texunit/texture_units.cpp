@@ -13,6 +13,7 @@
 #include "core/arith8.h"
 #include "core/error.h"
 #include "cube_select.h"
+#include "fetch_counter.h"
 #include "stage_arith.h"
 #include "texunit/cube_mapping.h"
 
@@ -45,7 +46,7 @@ bool opReads(TextureOp op, int which) {  // which: 1, 2 or 0 (Lerp weight)
 }
 }  // namespace
 
-TextureUnits::TextureUnits() : fetches_(std::make_shared<std::atomic<uint64_t>>(0)) {}
+TextureUnits::TextureUnits() : fetches_(std::make_shared<detail::FetchCounter>()) {}
 
 void TextureUnits::setStage(int i, const StageState& s) {
     checkStage(i);
@@ -105,12 +106,12 @@ void TextureUnits::setTextureMemory(std::shared_ptr<TextureMemory> m) { memory_ 
 
 TextureCounters TextureUnits::counters() const {
     TextureCounters c;
-    c.texelFetches = fetches_->load(std::memory_order_relaxed);
+    c.texelFetches = fetches_->total();
     c.uploadBytes = memory_ ? memory_->uploadBytes() : 0;
     return c;
 }
 void TextureUnits::resetCounters() {
-    fetches_->store(0, std::memory_order_relaxed);
+    fetches_->reset();
     if (memory_) memory_->resetFrameCounters();
 }
 
@@ -326,7 +327,7 @@ std::array<Rgba8, 4> TextureUnits::sampleStage(int stage, const FragmentQuad& qu
     }
     if (u.colorTable)
         for (auto& o : out) o = applyColorTable(*u.colorTable, o);
-    fetches_->fetch_add(fetched, std::memory_order_relaxed);
+    fetches_->add(fetched);
     return out;
 }
 

@@ -297,6 +297,13 @@ TEST(SamplerFloat, FloatTexturesFilterInFloatAndConvertOnce) {
     gatherTaps(*t, s, glm::vec4(0.5f, 0.5f, 0, 0), kMagnify, taps);  // halfway: 0.5
     EXPECT_EQ(resolveTaps(*t, s, taps), (Rgba8{128, 0, 0, 255}));
     EXPECT_EQ(sampleFast(*t, s, glm::vec4(0.5f, 0.5f, 0, 0), kMagnify), (Rgba8{128, 0, 0, 255}));
+    EXPECT_EQ(resolveTapsFloat(*t, s, taps), glm::vec4(0.5f, 0.0f, 0.0f, 1.0f));  // unrounded
+    // Values outside [0, 1] survive in float and clamp only on the way to 8 bits.
+    float big[2] = {4.0f, -2.0f};
+    mem.upload(*t, 0, 0, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(big), 8));
+    gatherTaps(*t, s, glm::vec4(0.5f, 0.5f, 0, 0), kMagnify, taps);
+    EXPECT_EQ(resolveTapsFloat(*t, s, taps).x, 1.0f);
+    EXPECT_EQ(resolveTaps(*t, s, taps).r, 255);
 }
 
 }  // namespace

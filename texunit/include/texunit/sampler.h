@@ -96,6 +96,9 @@ void gatherTaps(const Texture& t, const SamplerState& s, const glm::vec4& coord,
 // round(Σ weight·texel / 2^weightBits) (8-bit formats); float formats blend in float in
 // tap order and convert with floatToRgba8().
 Rgba8 resolveTaps(const Texture& t, const SamplerState& s, const TapList& taps);
+// The filtered colour in float, for every format (8-bit texels as v/255): for the
+// geforce8800 programmable profile, whose shaders see unclamped float texels.
+glm::vec4 resolveTapsFloat(const Texture& t, const SamplerState& s, const TapList& taps);
 // The same result as resolveTaps(gatherTaps(...)) for 1D/2D/cube 8-bit textures without
 // building the list (falls back to it otherwise).
 Rgba8 sampleFast(const Texture& t, const SamplerState& s, const glm::vec4& coord,

@@ -12,7 +12,6 @@
 #pragma once
 
 #include <array>
-#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -32,6 +31,10 @@
 #include "texunit/texture.h"
 
 namespace rg::tex {
+
+namespace detail {
+struct FetchCounter;  // texunit/fetch_counter.h
+}
 
 constexpr int kMaxTexCoordSets = 8;
 constexpr int kMaxStages = 16;
@@ -134,8 +137,8 @@ class TextureUnits {
     Rgba8 tfactor_{255, 255, 255, 255};
     PixelTextureState pixelTexture_{};
     std::shared_ptr<TextureMemory> memory_;
-    // Shared by copies; relaxed atomic adds once per quad / row.
-    std::shared_ptr<std::atomic<uint64_t>> fetches_;
+    // Shared by copies; per-thread shards, added once per quad and stage / per row.
+    std::shared_ptr<detail::FetchCounter> fetches_;
 };
 
 }  // namespace rg::tex
