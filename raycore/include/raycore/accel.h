@@ -37,6 +37,8 @@ struct SurfacePoint {
     const Material* material = nullptr;
 };
 
+// Built once per scene (validateScene first: bad scenes raise rg::Error before Embree sees
+// them); the scene must outlive it. All queries are const and thread-safe.
 class Accel {
   public:
     explicit Accel(const Scene& scene);
