@@ -163,6 +163,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     counters.fragmentsGenerated += rc.generated;
     counters.fragmentsWritten += rc.written;
     counters.blendOps += rc.blendOps;
+    counters.texture = textureUnits.counters();  // texel fetches and uploads this frame
 }
 
 // ---- Device ----------------------------------------------------------------------------
@@ -222,6 +223,7 @@ const tex::TextureUnits& Device::textureUnits() const { return impl_->textureUni
 void Device::beginFrame() {
     impl_->endPass();
     impl_->counters = Counters{};
+    impl_->textureUnits.resetCounters();
     impl_->passes.clear();
 }
 

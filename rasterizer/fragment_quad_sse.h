@@ -22,17 +22,17 @@ namespace rg::raster::detail {
 
 namespace sse {
 
-inline __m128i broadcastAlpha(__m128i x) {  // 16-bit lanes: (r g b a)(r g b a) → (a a a a)(a a a a)
+[[gnu::always_inline]] inline __m128i broadcastAlpha(__m128i x) {  // 16-bit lanes: (r g b a)(r g b a) → (a a a a)(a a a a)
     return _mm_shufflehi_epi16(_mm_shufflelo_epi16(x, 0xFF), 0xFF);
 }
 
-inline __m128i mulDiv255(__m128i a, __m128i b) {
+[[gnu::always_inline]] inline __m128i mulDiv255(__m128i a, __m128i b) {
     __m128i t = _mm_add_epi16(_mm_mullo_epi16(a, b), _mm_set1_epi16(128));
     return _mm_srli_epi16(_mm_add_epi16(t, _mm_srli_epi16(t, 8)), 8);
 }
 
 // blendFactorValue() for two pixels in 16-bit lanes.
-inline __m128i factor(BlendFactor f, __m128i s, __m128i d) {
+[[gnu::always_inline]] inline __m128i factor(BlendFactor f, __m128i s, __m128i d) {
     const __m128i k255 = _mm_set1_epi16(255);
     switch (f) {
         case BlendFactor::Zero: return _mm_setzero_si128();
@@ -58,7 +58,7 @@ inline __m128i factor(BlendFactor f, __m128i s, __m128i d) {
 
 // blendPixel() for two pixels in 16-bit lanes. (srcF, dstF, op) are compile-time
 // constants for the common modes (the switches fold away) and run-time values otherwise.
-inline __m128i blend2(BlendFactor srcF, BlendFactor dstF, BlendOp op, __m128i s, __m128i d) {
+[[gnu::always_inline]] inline __m128i blend2(BlendFactor srcF, BlendFactor dstF, BlendOp op, __m128i s, __m128i d) {
     switch (op) {
         case BlendOp::Min: return _mm_min_epi16(s, d);
         case BlendOp::Max: return _mm_max_epi16(s, d);
@@ -76,14 +76,14 @@ inline __m128i blend2(BlendFactor srcF, BlendFactor dstF, BlendOp op, __m128i s,
 }
 
 // Four channel vectors (pixels in lanes) → 16 bytes, pixel-major RGBA.
-inline __m128i toPixels(__m128i r, __m128i g, __m128i b, __m128i a) {
+[[gnu::always_inline]] inline __m128i toPixels(__m128i r, __m128i g, __m128i b, __m128i a) {
     __m128i x = _mm_packus_epi16(_mm_packs_epi32(r, b), _mm_packs_epi32(g, a));
     // x = R0..R3 B0..B3 G0..G3 A0..A3
     __m128i lo = _mm_unpacklo_epi8(x, _mm_srli_si128(x, 8));     // R0 G0 R1 G1 … B0 A0 B1 A1 …
     return _mm_unpacklo_epi16(lo, _mm_srli_si128(lo, 8));        // R0 G0 B0 A0 R1 G1 B1 A1 …
 }
 
-inline __m128i channelToInt(__m128 v) {
+[[gnu::always_inline]] inline __m128i channelToInt(__m128 v) {
     v = _mm_max_ps(v, _mm_setzero_ps());
     v = _mm_min_ps(v, _mm_set1_ps(255.0f));
     return _mm_cvttps_epi32(_mm_add_ps(v, _mm_set1_ps(0.5f)));
@@ -134,7 +134,7 @@ struct RowTerms {
 
 // Interpolated colour of planes [first, first + 4) for the four pixels of the quad:
 // (c + dx·fx) + dy·fy, ·r when perspective-correct.
-inline __m128i colors(const Planes& p, const RowTerms& row, int first, __m128 fx,
+[[gnu::always_inline]] inline __m128i colors(const Planes& p, const RowTerms& row, int first, __m128 fx,
                       bool perspective, __m128 r) {
     __m128i ch[4];
     for (int a = 0; a < 4; ++a) {
@@ -154,7 +154,7 @@ constexpr uint8_t kPopcount4[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3,
 enum BlendMode { kBlendNone, kBlendGeneric, kBlendSrcAlphaInvSrcAlpha, kBlendOneOne };
 
 template <bool kDepth, int kBlendMode>
-inline void processQuadSse(const DrawContext& dc, const SetupTriangle& t, const sse::Planes& planes,
+[[gnu::always_inline]] inline void processQuadSse(const DrawContext& dc, const SetupTriangle& t, const sse::Planes& planes,
                            const sse::RowTerms& row, int qx, int qy, unsigned coverage,
                            RasterCounters& rc) {
     const PipelineState& st = dc.st;
