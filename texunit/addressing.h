@@ -32,12 +32,20 @@ inline int64_t toSubTexel(float c, int n) {
 inline int32_t addressTexel(int64_t i, int n, AddressMode m) {
     switch (m) {
         case AddressMode::Wrap: {
+            // Power-of-two extents (every texture on the fixed-function profiles): the
+            // two's-complement mask is the non-negative remainder, without a division.
+            if ((n & (n - 1)) == 0) return int32_t(i & (n - 1));
             int64_t r = i % n;
             return int32_t(r < 0 ? r + n : r);
         }
         case AddressMode::Mirror: {
-            int64_t p = 2 * int64_t(n), r = i % p;
-            if (r < 0) r += p;
+            int64_t p = 2 * int64_t(n), r;
+            if ((n & (n - 1)) == 0) {
+                r = i & (p - 1);
+            } else {
+                r = i % p;
+                if (r < 0) r += p;
+            }
             return int32_t(r < n ? r : p - 1 - r);
         }
         case AddressMode::ClampToEdge: return int32_t(std::clamp<int64_t>(i, 0, n - 1));

@@ -97,6 +97,31 @@ TEST(SamplerAddressing, EdgesAndOutsideNearest) {
     EXPECT_EQ(fx.sample(AddressMode::Wrap, N, 0.5f), kT[2]);
 }
 
+TEST(SamplerAddressing, NonPowerOfTwoWrapAndMirror) {
+    // geforce8800 takes a 3-texel row: WRAP and MIRROR need a true remainder there.
+    TextureMemory mem(profile(ProfileId::GeForce8800));
+    const uint8_t v[3] = {10, 50, 90};
+    auto t = makeRgba8(mem, {TextureTarget::Texture1D, TexelFormat::RGBA8, 3, 1, 1, 1, 1},
+                       [&](int, int, int x, int, int, int) { return Rgba8{v[x], 0, 0, 255}; });
+    auto at = [&](AddressMode m, float s) {
+        SamplerState st;
+        st.address[0] = m;
+        st.magFilter = st.minFilter = FilterMode::Nearest;
+        TapList taps;
+        gatherTaps(*t, st, glm::vec4(s, 0, 0, 0), kMagnify, taps);
+        EXPECT_EQ(sampleFast(*t, st, glm::vec4(s, 0, 0, 0), kMagnify), resolveTaps(*t, st, taps));
+        return resolveTaps(*t, st, taps).r;
+    };
+    EXPECT_EQ(at(AddressMode::Wrap, -0.1f), 90);    // ⌊−0.3⌋ = −1 → 2
+    EXPECT_EQ(at(AddressMode::Mirror, -0.1f), 10);  // −1 → 0
+    EXPECT_EQ(at(AddressMode::Wrap, 1.5f), 50);     // 4 → 1
+    EXPECT_EQ(at(AddressMode::Mirror, 1.5f), 50);   // 4 → 6 − 1 − 4 = 1
+    EXPECT_EQ(at(AddressMode::Wrap, 2.2f), 10);     // 6 → 0
+    EXPECT_EQ(at(AddressMode::Mirror, 2.2f), 10);   // 6 → 0
+    EXPECT_EQ(at(AddressMode::Mirror, -0.5f), 50);  // ⌊−1.5⌋ = −2 → 4 → 6 − 1 − 4 = 1
+    EXPECT_EQ(at(AddressMode::Wrap, -0.5f), 50);    // −2 → 1
+}
+
 TEST(SamplerLod, Log2ApproximationIsExactAtPowersOfTwoAndAtMost0p087Low) {
     EXPECT_EQ(log2Fixed(1.0f), 0);
     EXPECT_EQ(log2Fixed(2.0f), 256);
