@@ -140,9 +140,10 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
                 TriangleChunk& ch = chunks[c];
                 ch.tris.clear();
                 ch.texPlanes.clear();
-                ch.geometry = GeometryCounters{};
+                GeometryCounters local;  // published once: chunks share cache lines
                 setupRange(c * kChunk, std::min(triangles, (c + 1) * kChunk), ch.tris, ch.texPlanes,
-                           ch.geometry);
+                           local);
+                ch.geometry = local;
                 binChunk(ch, tilesX, tilesY);
             });
             tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {

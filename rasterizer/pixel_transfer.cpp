@@ -10,12 +10,12 @@ namespace rg::raster {
 
 namespace {
 
-// Rectangle ∩ target; false when empty.
-bool clipRect(const Framebuffer& fb, int& x0, int& y0, int& x1, int& y1) {
-    x0 = std::max(x0, 0);
-    y0 = std::max(y0, 0);
-    x1 = std::min(x1, fb.width());
-    y1 = std::min(y1, fb.height());
+// Rectangle ∩ target; false when empty. int64 so that no corner can overflow.
+bool clipRect(const Framebuffer& fb, int64_t& x0, int64_t& y0, int64_t& x1, int64_t& y1) {
+    x0 = std::max<int64_t>(x0, 0);
+    y0 = std::max<int64_t>(y0, 0);
+    x1 = std::min<int64_t>(x1, fb.width());
+    y1 = std::min<int64_t>(y1, fb.height());
     return x0 < x1 && y0 < y1;
 }
 
@@ -36,18 +36,18 @@ void Device::clear(bool color, Rgba8 colorValue, bool depth, float depthValue) {
                            " is not inside [0, 1]");
     Framebuffer& fb = framebuffer();
     const Viewport& vp = impl_->viewport;
-    int x0 = vp.x, y0 = vp.y, x1 = vp.x + vp.width, y1 = vp.y + vp.height;
+    int64_t x0 = vp.x, y0 = vp.y, x1 = int64_t(vp.x) + vp.width, y1 = int64_t(vp.y) + vp.height;
     if (state().scissorTest) {
         const Rect& s = impl_->scissor;
-        x0 = std::max(x0, s.x);
-        y0 = std::max(y0, s.y);
-        x1 = std::min(x1, s.x + s.width);
-        y1 = std::min(y1, s.y + s.height);
+        x0 = std::max<int64_t>(x0, s.x);
+        y0 = std::max<int64_t>(y0, s.y);
+        x1 = std::min<int64_t>(x1, int64_t(s.x) + s.width);
+        y1 = std::min<int64_t>(y1, int64_t(s.y) + s.height);
     }
     if (!clipRect(fb, x0, y0, x1, y1)) return;
     const bool hasDepth = depth && fb.depthFormat() != DepthFormat::None;
     const uint32_t z = hasDepth ? quantizeDepth(depthValue, fb.depthMax()) : 0;
-    for (int y = y0; y < y1; ++y) {
+    for (int64_t y = y0; y < y1; ++y) {
         const size_t row = size_t(y) * size_t(fb.width());
         if (color) std::fill(fb.color().begin() + row + x0, fb.color().begin() + row + x1, colorValue);
         if (hasDepth) std::fill(fb.depth().begin() + row + x0, fb.depth().begin() + row + x1, z);
@@ -65,14 +65,14 @@ void Device::drawPixels(int x, int y, int width, int height, std::span<const Rgb
     Framebuffer& fb = framebuffer();
     std::vector<Rgba8> row(static_cast<size_t>(width));
     for (int j = 0; j < height; ++j) {
-        const int wy = y + j;
+        const int64_t wy = int64_t(y) + j;
         if (wy < 0 || wy >= fb.height()) continue;
         std::copy(pixels.begin() + size_t(j) * width, pixels.begin() + size_t(j + 1) * width,
                   row.begin());
         textureUnits().applyPixelTransfer(row);
         for (int i = 0; i < width; ++i) {
-            const int wx = x + i;
-            if (wx >= 0 && wx < fb.width()) fb.pixel(wx, wy) = row[size_t(i)];
+            const int64_t wx = int64_t(x) + i;
+            if (wx >= 0 && wx < fb.width()) fb.pixel(int(wx), int(wy)) = row[size_t(i)];
         }
     }
 }

@@ -218,7 +218,9 @@ QuadWalkFn selectQuadWalk(const DrawContext& dc) {
 }  // namespace
 
 void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks, int tile,
-                   int tilesX, RasterCounters& rc) {
+                   int tilesX, RasterCounters& out) {
+    // Count locally and publish once: neighbouring tiles' counters share cache lines.
+    RasterCounters rc;
     const int tx = tile % tilesX, ty = tile / tilesX;
     const Box tileBox{tx * kTileSize, ty * kTileSize, tx * kTileSize + kTileSize - 1,
                       ty * kTileSize + kTileSize - 1};
@@ -238,6 +240,7 @@ void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks,
                 walk(dc, t, chunk.texPlanes.data(), box, rc);
         }
     }
+    out = rc;
 }
 
 }  // namespace rg::raster::detail

@@ -78,16 +78,20 @@ DrawContext makeDrawContext(const PipelineState& st, Framebuffer& fb, const tex:
     dc.depthOn = st.depthTest != 0 && fb.depthFormat() != DepthFormat::None;
     dc.depthMax = fb.depthMax();
 
-    dc.clipX0 = std::max(0, vp.x);
-    dc.clipY0 = std::max(0, vp.y);
-    dc.clipX1 = std::min(fb.width(), vp.x + vp.width);
-    dc.clipY1 = std::min(fb.height(), vp.y + vp.height);
+    // int64: a scissor rectangle may lie anywhere, even near the int32 limits.
+    int64_t x0 = std::max(0, vp.x), y0 = std::max(0, vp.y);
+    int64_t x1 = std::min<int64_t>(fb.width(), int64_t(vp.x) + vp.width);
+    int64_t y1 = std::min<int64_t>(fb.height(), int64_t(vp.y) + vp.height);
     if (st.scissorTest) {
-        dc.clipX0 = std::max(dc.clipX0, scissor.x);
-        dc.clipY0 = std::max(dc.clipY0, scissor.y);
-        dc.clipX1 = std::min(dc.clipX1, scissor.x + scissor.width);
-        dc.clipY1 = std::min(dc.clipY1, scissor.y + scissor.height);
+        x0 = std::max<int64_t>(x0, scissor.x);
+        y0 = std::max<int64_t>(y0, scissor.y);
+        x1 = std::min<int64_t>(x1, int64_t(scissor.x) + scissor.width);
+        y1 = std::min<int64_t>(y1, int64_t(scissor.y) + scissor.height);
     }
+    dc.clipX0 = int(std::min<int64_t>(x0, fb.width()));
+    dc.clipY0 = int(std::min<int64_t>(y0, fb.height()));
+    dc.clipX1 = int(std::max<int64_t>(x1, 0));
+    dc.clipY1 = int(std::max<int64_t>(y1, 0));
 
     const float G = float(kGuardBandPixels);
     dc.planes[0] = {0, 0, 1, 0};   // near: z ≥ 0 (Direct3D clip volume 0 ≤ z ≤ w)

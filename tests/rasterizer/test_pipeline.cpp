@@ -295,6 +295,29 @@ TEST(BadInput, ImpossibleStateIsRefusedWithItsName) {
     EXPECT_EQ(dev.counters().fragmentsGenerated, 0u);
 }
 
+// Rectangles near the int32 limits: nothing overflows, nothing outside is touched.
+TEST(BadInput, ExtremeRectanglesDoNotOverflow) {
+    const int big = std::numeric_limits<int>::max();
+    for (Path path : {Path::Reference, Path::Fast}) {
+        Device dev(geforce256(), 16, 16, DepthFormat::D16, {path, 2});
+        PipelineState s = plainState();
+        s.scissorTest = 1;
+        dev.setState(s);
+        dev.setScissor({big - 5, big - 5, big, big});
+        dev.clear(true, {9, 9, 9, 9}, true, 0.0f);
+        std::vector<Vertex> q = {tv(0, 0), tv(16, 0), tv(16, 16), tv(0, 16)};
+        dev.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, q);
+        EXPECT_EQ(dev.counters().fragmentsGenerated, 0u);
+        dev.setScissor({-big, -big, big, big});
+        dev.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, q);
+        EXPECT_EQ(dev.counters().fragmentsGenerated, 256u);
+        std::vector<Rgba8> px(4, Rgba8{1, 2, 3, 4});
+        dev.drawPixels(big - 1, big - 1, 2, 2, px);
+        dev.drawPixels(-big, -big, 2, 2, px);
+        EXPECT_EQ(countIf(dev.framebuffer(), [](Rgba8 p) { return p.r == 255; }), 256);
+    }
+}
+
 // ---- golden frame ----------------------------------------------------------------------
 TEST(Sha256, KnownVectors) {
     EXPECT_EQ(sha256Hex("", 0), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
