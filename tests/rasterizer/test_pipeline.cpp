@@ -308,7 +308,7 @@ TEST(BadInput, ExtremeRectanglesDoNotOverflow) {
         std::vector<Vertex> q = {tv(0, 0), tv(16, 0), tv(16, 16), tv(0, 16)};
         dev.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, q);
         EXPECT_EQ(dev.counters().fragmentsGenerated, 0u);
-        dev.setScissor({-big, -big, big, big});
+        dev.setScissor({-1000, -1000, big, big});  // right edge −1000 + big
         dev.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, q);
         EXPECT_EQ(dev.counters().fragmentsGenerated, 256u);
         std::vector<Rgba8> px(4, Rgba8{1, 2, 3, 4});
