@@ -13,7 +13,7 @@ namespace rg::tex::detail {
 
 using namespace rg::arith8;
 
-inline uint8_t lerp255(uint8_t a, uint8_t b, uint8_t w) {
+[[gnu::always_inline]] inline uint8_t lerp255(uint8_t a, uint8_t b, uint8_t w) {
     // a·w + b·(255 − w) ≤ 255·255, the range in which Blinn's divide-by-255 is exact.
     uint32_t t = uint32_t(a) * w + uint32_t(b) * (255u - w) + 128u;
     return uint8_t((t + (t >> 8)) >> 8);
@@ -28,7 +28,7 @@ inline uint8_t dotProduct3(Rgba8 a, Rgba8 b) {
     return uint8_t(std::min<int32_t>(255, (s + 127) / 255));
 }
 
-inline uint8_t combineChannel(TextureOp op, uint8_t a1, uint8_t a2, uint8_t a0, uint8_t alpha) {
+[[gnu::always_inline]] inline uint8_t combineChannel(TextureOp op, uint8_t a1, uint8_t a2, uint8_t a0, uint8_t alpha) {
     switch (op) {
         case TextureOp::SelectArg1: return a1;
         case TextureOp::SelectArg2: return a2;
@@ -50,7 +50,7 @@ inline uint8_t combineChannel(TextureOp op, uint8_t a1, uint8_t a2, uint8_t a0, 
     }
 }
 
-inline Rgba8 selectArg(uint8_t a, const StageInputs& in) {
+[[gnu::always_inline]] inline Rgba8 selectArg(uint8_t a, const StageInputs& in) {
     Rgba8 v;
     switch (a & arg::SourceMask) {
         case arg::Diffuse: v = in.diffuse; break;
@@ -66,7 +66,7 @@ inline Rgba8 selectArg(uint8_t a, const StageInputs& in) {
     return v;
 }
 
-inline uint8_t blendAlphaFor(TextureOp op, const StageInputs& in) {
+[[gnu::always_inline]] inline uint8_t blendAlphaFor(TextureOp op, const StageInputs& in) {
     switch (op) {
         case TextureOp::BlendDiffuseAlpha: return in.diffuse.a;
         case TextureOp::BlendTextureAlpha:
@@ -77,7 +77,7 @@ inline uint8_t blendAlphaFor(TextureOp op, const StageInputs& in) {
     }
 }
 
-inline uint8_t scale(uint8_t v, uint8_t shift) {
+[[gnu::always_inline]] inline uint8_t scale(uint8_t v, uint8_t shift) {
     return shift == 0 ? v : uint8_t(std::min(uint32_t(v) << shift, 255u));
 }
 
