@@ -80,54 +80,59 @@ Eigen::SparseMatrix<double> regulariser(const TexelLayout& L, const InferenceOpt
 
 }  // namespace
 
-Eigen::VectorXd inferChannel(const RenderingMatrix& m, const Eigen::VectorXd& b,
-                             const InferenceOptions& o, InferenceStats* stats) {
+InferenceSystem::InferenceSystem(const RenderingMatrix& m, const InferenceOptions& o)
+    : m_(m), o_(o) {
     const int64_t n = m.layout.count();
     if (m.A.cols() != n) throw Error("rendering matrix has the wrong number of columns");
-    if (b.size() != m.A.rows()) throw Error("layer image does not match the rendering matrix rows");
-
-    // Normal equations of  ‖Ax − b‖² + xᵀRx + μ‖x − x̄‖²  (+ pins from the bound rounds).
-    Eigen::SparseMatrix<double> At = m.A.transpose();
-    Eigen::SparseMatrix<double> H = At * m.A;
-    H += regulariser(m.layout, o);
-    double mean = b.size() ? b.mean() : 0.5;
-    Eigen::VectorXd rhs = At * b;
+    // Normal equations of  ‖Ax − b‖² + xᵀRx + μ‖x − x̄‖².
+    At_ = m.A.transpose();
+    H_ = At_ * m.A;
+    H_ += regulariser(m.layout, o);
     Eigen::SparseMatrix<double> I(n, n);
     I.setIdentity();
-    H += o.prior * I;
+    H_ += o.prior * I;
+}
+
+Eigen::VectorXd InferenceSystem::solve(const Eigen::VectorXd& b, InferenceStats* stats) const {
+    const int64_t n = m_.layout.count();
+    if (b.size() != m_.A.rows()) throw Error("layer image does not match the rendering matrix rows");
+    const InferenceOptions& o = o_;
+    double mean = b.size() ? b.mean() : 0.5;
+    Eigen::VectorXd rhs = At_ * b;
     rhs.array() += o.prior * mean;
 
     Eigen::VectorXd x = Eigen::VectorXd::Constant(n, mean);
     Eigen::VectorXd pinWeight = Eigen::VectorXd::Zero(n), pinValue = Eigen::VectorXd::Zero(n);
     InferenceStats s;
     for (int round = 0; round <= o.boundRounds; ++round) {
-        Eigen::SparseMatrix<double> Hp = H;
+        Eigen::SparseMatrix<double> Hp;
         Eigen::VectorXd rp = rhs;
+        const Eigen::SparseMatrix<double>* H = &H_;
         if (round > 0) {
             Eigen::SparseMatrix<double> P(n, n);
             std::vector<Eigen::Triplet<double>> d;
             for (int64_t i = 0; i < n; ++i)
                 if (pinWeight[i] > 0) d.emplace_back(i, i, pinWeight[i]);
             P.setFromTriplets(d.begin(), d.end());
-            Hp += P;
+            Hp = H_ + P;
+            H = &Hp;
             rp += pinWeight.cwiseProduct(pinValue);
         }
         Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
         cg.setMaxIterations(o.maxIterations);
         cg.setTolerance(o.tolerance);
-        cg.compute(Hp);
+        cg.compute(*H);
         x = cg.solveWithGuess(rp, x);
         s.iterations += int(cg.iterations());
         // Texels outside [0, 1] cannot be stored in an 8-bit texture: pin them to the bound
         // with a strong weight and solve again so their neighbours compensate.
         bool any = false;
+        Eigen::VectorXd diag = H->diagonal();
         for (int64_t i = 0; i < n; ++i)
             if (x[i] < 0.0 || x[i] > 1.0) {
-                double bound = x[i] < 0.0 ? 0.0 : 1.0;
-                double w = 10.0 * (Hp.coeff(i, i) + 1.0);
                 if (pinWeight[i] == 0) any = true;
-                pinWeight[i] = w;
-                pinValue[i] = bound;
+                pinWeight[i] = 10.0 * (diag[i] + 1.0);
+                pinValue[i] = x[i] < 0.0 ? 0.0 : 1.0;
             }
         if (!any) break;
     }
@@ -137,12 +142,17 @@ Eigen::VectorXd inferChannel(const RenderingMatrix& m, const Eigen::VectorXd& b,
         x[i] = std::clamp(x[i], 0.0, 1.0);
     }
     double nb = b.norm();
-    s.residual = nb > 0 ? (m.A * x - b).norm() / nb : 0.0;
+    s.residual = nb > 0 ? (m_.A * x - b).norm() / nb : 0.0;
     s.texels = n;
-    s.rows = m.A.rows();
-    s.nonZeros = m.A.nonZeros();
+    s.rows = m_.A.rows();
+    s.nonZeros = m_.A.nonZeros();
     if (stats) *stats = s;
     return x;
+}
+
+Eigen::VectorXd inferChannel(const RenderingMatrix& m, const Eigen::VectorXd& b,
+                             const InferenceOptions& o, InferenceStats* stats) {
+    return InferenceSystem(m, o).solve(b, stats);
 }
 
 }  // namespace rg::pem

@@ -42,8 +42,8 @@ struct InferenceOptions {
     double smoothness = 1e-3;   // λ: neighbour differences (fills non-contributing texels)
     double levelCoupling = 1e-3;// parent ≈ mean of its 4 children across MIPMAP levels
     double prior = 1e-6;        // μ: pull towards the mean of b (makes the system definite)
-    int maxIterations = 400;
-    double tolerance = 1e-6;
+    int maxIterations = 300;
+    double tolerance = 1e-5;    // relative residual of CG; far below 8-bit quantization
     int boundRounds = 2;        // active-set rounds that pin out-of-range texels to [0, 1]
 };
 
@@ -54,7 +54,23 @@ struct InferenceStats {
     int64_t clampedTexels = 0;
 };
 
-// Solves one channel. `b` has one entry per row of `m`, in [0, 1].
+// The normal equations of one rendering matrix, built once and shared by the channels
+// (and layers) that use the same A:  H = AᵀA + R + μI, with R the regulariser.
+class InferenceSystem {
+  public:
+    InferenceSystem(const RenderingMatrix& m, const InferenceOptions& options);
+    // Solves one channel; thread-safe (channels may be solved in parallel). `b` has one
+    // entry per row of the matrix, in [0, 1].
+    Eigen::VectorXd solve(const Eigen::VectorXd& b, InferenceStats* stats = nullptr) const;
+    const RenderingMatrix& matrix() const { return m_; }
+
+  private:
+    const RenderingMatrix& m_;
+    InferenceOptions o_;
+    Eigen::SparseMatrix<double> At_, H_;
+};
+
+// Convenience: builds the system and solves one channel.
 Eigen::VectorXd inferChannel(const RenderingMatrix& m, const Eigen::VectorXd& b,
                              const InferenceOptions& options, InferenceStats* stats = nullptr);
 

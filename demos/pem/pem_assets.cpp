@@ -138,13 +138,17 @@ void saveView(const fs::path& dir, const PemScene& scene, const ViewSample& v,
                    {"fov_y_degrees", camera.fovYDegrees}};
     j["raytrace_s"] = v.raytraceSeconds;
     j["inference_s"] = v.inferenceSeconds;
+    j["baseline_s"] = v.baselineSeconds;
+    j["baselines"] = v.hasBaselines();
     for (size_t p = 0; p < scene.parts.size(); ++p) {
         const std::string& n = scene.parts[p].name;
         const PartMaps& m = v.parts[p];
         saveMap(vd / (n + "_local.exr"), m.local);
         saveMap(vd / (n + "_distant.exr"), m.distant);
-        saveMap(vd / (n + "_infinite.exr"), m.infinite);
-        saveMap(vd / (n + "_ptm.exr"), m.ptm);
+        if (v.hasBaselines()) {
+            saveMap(vd / (n + "_infinite.exr"), m.infinite);
+            saveMap(vd / (n + "_ptm.exr"), m.ptm);
+        }
     }
     ray::writeImage(vd / "ground_truth.exr", v.groundTruth);
     ray::writeImage(vd / "coverage.exr", v.coverage);
@@ -167,13 +171,16 @@ std::optional<ViewSample> loadView(const fs::path& dir, const PemScene& scene, i
     v.view = view;
     v.raytraceSeconds = j.value("raytrace_s", 0.0);
     v.inferenceSeconds = j.value("inference_s", 0.0);
+    v.baselineSeconds = j.value("baseline_s", 0.0);
     TexelLayout cube{emSize, 6}, atlas{ptmSize, 1};
     for (const PemPart& p : scene.parts) {
         PartMaps m;
         m.local = loadMap(vd / (p.name + "_local.exr"), cube);
         m.distant = loadMap(vd / (p.name + "_distant.exr"), cube);
-        m.infinite = loadMap(vd / (p.name + "_infinite.exr"), cube);
-        m.ptm = loadMap(vd / (p.name + "_ptm.exr"), atlas);
+        if (j.value("baselines", false)) {
+            m.infinite = loadMap(vd / (p.name + "_infinite.exr"), cube);
+            m.ptm = loadMap(vd / (p.name + "_ptm.exr"), atlas);
+        }
         v.parts.push_back(std::move(m));
     }
     v.groundTruth = ray::readImage(vd / "ground_truth.exr");

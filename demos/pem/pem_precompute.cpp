@@ -1,5 +1,6 @@
 #include "pem_precompute.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include <tbb/parallel_for.h>
@@ -76,7 +77,8 @@ void groundTruthOf(const ray::PemLayerImages& layers, ray::Image& rgb, ray::Imag
 }
 
 ViewSample precomputeView(const ray::Accel& accel, PemRenderer& renderer, int view,
-                          const ray::Camera& camera, int emSize, const PemSettings& settings) {
+                          const ray::Camera& camera, int emSize, const PemSettings& settings,
+                          bool baselines) {
     ViewSample vs;
     vs.view = view;
     const PemScene& scene = renderer.scene();
@@ -89,66 +91,31 @@ ViewSample precomputeView(const ray::Accel& accel, PemRenderer& renderer, int vi
     vs.raytraceSeconds = secondsSince(t0);
 
     // ---- inference per part and layer (001 §4) -------------------------------------------
-    auto t1 = Clock::now();
+    // The PEM's own maps (distant, local) first — their time is the paper's "EM inference"
+    // per view — then, when asked, the baselines' maps (single EM, PTM).
     const int W = settings.width;
     const ray::Image& segId = vs.layers.segmentId;
     vs.parts.resize(scene.parts.size());
-    for (size_t p = 0; p < scene.parts.size(); ++p) {
-        const ray::PemLayers& L = vs.layers.segments[p];
-        auto inPart = [&](int32_t px) {
-            return int(segId.pixels[size_t(px)]) == int(p);
-        };
-        auto at = [W](const ray::Image& im, int32_t px, int c) {
-            return im.at(px % W, px / W, c);
-        };
-        auto alpha = [&](int32_t px) { return clamp01(at(L.localAlpha, px, 0)); };
-        auto incident = [&](int32_t px, int c) {
-            float a = alpha(px);
-            return clamp01(a * at(L.localColor, px, c) + (1.0f - a) * at(L.distant, px, c));
-        };
-        RenderingMatrix mD = selectRows(
-            buildMatrixByInstrumentedPass(device, renderer, camera, p, EmLayer::Distant, emSize),
-            inPart);
-        RenderingMatrix mLall =
-            buildMatrixByInstrumentedPass(device, renderer, camera, p, EmLayer::Local, emSize);
-        RenderingMatrix mLa = selectRows(mLall, inPart);
-        // Colour of the local layer only where some samples were local: elsewhere it is
-        // hidden by α = 0 and must not pull the solution towards black.
-        RenderingMatrix mLc =
-            selectRows(mLall, [&](int32_t px) { return inPart(px) && alpha(px) > 0.5f / 255.0f; });
-        RenderingMatrix mI = selectRows(
-            buildMatrixByInstrumentedPass(device, renderer, camera, p, EmLayer::Infinite, emSize),
-            inPart);
-        RenderingMatrix mP = selectRows(buildMatrixByInstrumentedPass(device, renderer, camera, p,
-                                                                      EmLayer::Ptm, settings.ptmSize),
-                                        inPart);
-        PartMaps& maps = vs.parts[p];
-        auto init = [](MapTexels& m, const TexelLayout& layout, uint8_t alphaFill) {
-            m.layout = layout;
-            m.texels.assign(size_t(layout.count()), Rgba8{0, 0, 0, alphaFill});
-        };
-        init(maps.distant, mD.layout, 255);
-        init(maps.local, mLa.layout, 0);
-        init(maps.infinite, mI.layout, 255);
-        init(maps.ptm, mP.layout, 255);
-
-        std::vector<SolveJob> jobs;
-        for (int c = 0; c < 3; ++c) {
-            jobs.push_back({&mD, [&, c](int32_t px) { return clamp01(at(L.distant, px, c)); },
-                            &maps.distant, c, {}});
-            jobs.push_back({&mLc, [&, c](int32_t px) { return clamp01(at(L.localColor, px, c)); },
-                            &maps.local, c, {}});
-            jobs.push_back({&mI, [&, c](int32_t px) { return incident(px, c); }, &maps.infinite, c, {}});
-            jobs.push_back({&mP, [&, c](int32_t px) { return incident(px, c); }, &maps.ptm, c, {}});
-        }
-        jobs.push_back({&mLa, alpha, &maps.local, 3, {}});
-        // Channels are independent: solving them in parallel cannot change a byte.
+    struct PartProblems {
+        RenderingMatrix mD, mLa, mLc, mI, mP;
+    };
+    std::vector<PartProblems> problems(scene.parts.size());
+    auto at = [W](const ray::Image& im, int32_t px, int c) { return im.at(px % W, px / W, c); };
+    auto runJobs = [&](std::vector<SolveJob>& jobs,
+                       const std::vector<const RenderingMatrix*>& matrices) {
+        // One system per distinct matrix, shared by its channels; both built and solved in
+        // parallel — each result depends only on its own inputs, so the bytes cannot change.
+        std::vector<std::unique_ptr<InferenceSystem>> systems(matrices.size());
+        tbb::parallel_for(size_t(0), matrices.size(), [&](size_t i) {
+            systems[i] = std::make_unique<InferenceSystem>(*matrices[i], settings.inference);
+        });
         tbb::parallel_for(size_t(0), jobs.size(), [&](size_t j) {
             SolveJob& job = jobs[j];
+            size_t si = size_t(std::find(matrices.begin(), matrices.end(), job.m) - matrices.begin());
             Eigen::VectorXd b(int64_t(job.m->rowPixel.size()));
             for (size_t r = 0; r < job.m->rowPixel.size(); ++r)
                 b[int64_t(r)] = job.value(job.m->rowPixel[r]);
-            Eigen::VectorXd x = inferChannel(*job.m, b, settings.inference, &job.stats);
+            Eigen::VectorXd x = systems[si]->solve(b, &job.stats);
             for (int64_t i = 0; i < x.size(); ++i) {
                 uint8_t v = ray::quantize8(float(x[i]));
                 Rgba8& t = job.out->texels[size_t(i)];
@@ -156,8 +123,72 @@ ViewSample precomputeView(const ray::Accel& accel, PemRenderer& renderer, int vi
             }
         });
         for (const SolveJob& j : jobs) vs.stats.push_back(j.stats);
+    };
+    auto init = [](MapTexels& m, const TexelLayout& layout, uint8_t alphaFill) {
+        m.layout = layout;
+        m.texels.assign(size_t(layout.count()), Rgba8{0, 0, 0, alphaFill});
+    };
+
+    for (int stage = 0; stage < (baselines ? 2 : 1); ++stage) {
+        auto ts = Clock::now();
+        std::vector<SolveJob> jobs;
+        std::vector<const RenderingMatrix*> matrices;
+        for (size_t p = 0; p < scene.parts.size(); ++p) {
+            const ray::PemLayers& L = vs.layers.segments[p];
+            PartProblems& P = problems[p];
+            PartMaps& maps = vs.parts[p];
+            auto inPart = [&segId, p](int32_t px) { return int(segId.pixels[size_t(px)]) == int(p); };
+            auto alpha = [&, p](int32_t px) {
+                return clamp01(at(vs.layers.segments[p].localAlpha, px, 0));
+            };
+            auto incident = [&, p, alpha](int32_t px, int c) {
+                const ray::PemLayers& l = vs.layers.segments[p];
+                float a = alpha(px);
+                return clamp01(a * at(l.localColor, px, c) + (1.0f - a) * at(l.distant, px, c));
+            };
+            if (stage == 0) {
+                P.mD = selectRows(buildMatrixByInstrumentedPass(device, renderer, camera, p,
+                                                                EmLayer::Distant, emSize),
+                                  inPart);
+                RenderingMatrix mL = buildMatrixByInstrumentedPass(device, renderer, camera, p,
+                                                                   EmLayer::Local, emSize);
+                P.mLa = selectRows(mL, inPart);
+                // Colour of the local layer only where some samples were local: elsewhere
+                // α = 0 hides it and it must not pull the solution towards black.
+                P.mLc = selectRows(mL, [&](int32_t px) {
+                    return inPart(px) && alpha(px) > 0.5f / 255.0f;
+                });
+                init(maps.distant, P.mD.layout, 255);
+                init(maps.local, P.mLa.layout, 0);
+                matrices.insert(matrices.end(), {&P.mD, &P.mLa, &P.mLc});
+                for (int c = 0; c < 3; ++c) {
+                    jobs.push_back({&P.mD, [&L, at, c](int32_t px) { return clamp01(at(L.distant, px, c)); },
+                                    &maps.distant, c, {}});
+                    jobs.push_back({&P.mLc, [&L, at, c](int32_t px) { return clamp01(at(L.localColor, px, c)); },
+                                    &maps.local, c, {}});
+                }
+                jobs.push_back({&P.mLa, alpha, &maps.local, 3, {}});
+            } else {
+                P.mI = selectRows(buildMatrixByInstrumentedPass(device, renderer, camera, p,
+                                                                EmLayer::Infinite, emSize),
+                                  inPart);
+                P.mP = selectRows(buildMatrixByInstrumentedPass(device, renderer, camera, p,
+                                                                EmLayer::Ptm, settings.ptmSize),
+                                  inPart);
+                init(maps.infinite, P.mI.layout, 255);
+                init(maps.ptm, P.mP.layout, 255);
+                matrices.insert(matrices.end(), {&P.mI, &P.mP});
+                for (int c = 0; c < 3; ++c) {
+                    jobs.push_back({&P.mI, [incident, c](int32_t px) { return incident(px, c); },
+                                    &maps.infinite, c, {}});
+                    jobs.push_back({&P.mP, [incident, c](int32_t px) { return incident(px, c); },
+                                    &maps.ptm, c, {}});
+                }
+            }
+        }
+        runJobs(jobs, matrices);
+        (stage == 0 ? vs.inferenceSeconds : vs.baselineSeconds) = secondsSince(ts);
     }
-    vs.inferenceSeconds = secondsSince(t1);
     return vs;
 }
 

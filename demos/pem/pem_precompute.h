@@ -49,7 +49,10 @@ struct ViewSample {
     ray::Image groundTruth;   // RGB: the ray tracer's reflector (Σ segment composites)
     ray::Image coverage;      // 1 channel: fraction of samples on the reflector
     ray::PemLayerImages layers;  // empty when loaded from assets
-    double raytraceSeconds = 0, inferenceSeconds = 0;
+    double raytraceSeconds = 0;
+    double inferenceSeconds = 0;   // the PEM's maps: A (instrumented) + solves
+    double baselineSeconds = 0;    // the single-EM and PTM baselines' maps, when made
+    bool hasBaselines() const { return !parts.empty() && !parts[0].ptm.texels.empty(); }
     std::vector<InferenceStats> stats;  // per part and layer, in solve order
 };
 
@@ -60,9 +63,11 @@ ray::PemLayerImages traceLayers(const ray::Accel& accel, const PemScene& scene,
 void groundTruthOf(const ray::PemLayerImages& layers, ray::Image& rgb, ray::Image& coverage);
 
 // The full precompute of one viewpoint: trace, build A per layer (instrumented pass),
-// infer. `emSize` is the resolution chosen for this PEM.
+// infer. `emSize` is the resolution chosen for this PEM. `baselines` also infers the
+// single sphere-at-infinity EM and the PTM of this view (only the evaluation needs them).
 ViewSample precomputeView(const ray::Accel& accel, PemRenderer& renderer, int view,
-                          const ray::Camera& camera, int emSize, const PemSettings& settings);
+                          const ray::Camera& camera, int emSize, const PemSettings& settings,
+                          bool baselines);
 
 // The static EM baseline (Figure 1c): a cube map ray traced from the object's EM origin
 // with the object removed, box-filtered MIPMAPs, indexed by the reflection vector.

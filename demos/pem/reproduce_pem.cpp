@@ -252,9 +252,11 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
         Progress progress("pem precompute", uint64_t(v1 - v0));
         for (int v = v0; v < v1; ++v) {
             ray::Camera cam = path.at(uint32_t(v));
+            // The baselines (single EM, PTM) are inferred only where they are evaluated.
+            const bool baselines = v == kView || v == kView + 1;
             samples[size_t(v)] = loadView(assets, ps, v, emSize, S.ptmSize);
-            if (!samples[size_t(v)]) {
-                samples[size_t(v)] = precomputeView(accel, renderer, v, cam, emSize, S);
+            if (!samples[size_t(v)] || (baselines && !samples[size_t(v)]->hasBaselines())) {
+                samples[size_t(v)] = precomputeView(accel, renderer, v, cam, emSize, S, baselines);
                 saveView(assets, ps, *samples[size_t(v)], cam);
             }
             progress.advance();
