@@ -265,6 +265,38 @@ TEST(SamplerCube, FacesFilterClampToEdgeWhateverTheSamplerSays) {
     }
 }
 
+TEST(Sampler4D, MipmappedQuadrilinearHas32TapsOf40Bits) {
+    TextureMemory mem(profile(ProfileId::SgiOctaneMxe));
+    auto t = makeRgba8(mem, {TextureTarget::Texture4D, TexelFormat::RGBA8, 4, 4, 4, 4, 3},
+                       [](int l, int, int, int, int, int) { return Rgba8{uint8_t(100 * l), 0, 0, 255}; });
+    SamplerState s;
+    s.mipFilter = MipMode::Linear;
+    TapList taps;
+    gatherTaps(*t, s, glm::vec4(0.3f, 0.6f, 0.2f, 0.9f), 64, taps);  // λ = ¼ between levels 0, 1
+    EXPECT_EQ(taps.count, 32);
+    EXPECT_EQ(taps.weightBits, 40);
+    uint64_t sum = 0;
+    for (int i = 0; i < taps.count; ++i) sum += taps.taps[size_t(i)].weight;
+    EXPECT_EQ(sum, uint64_t(1) << 40);
+    EXPECT_EQ(resolveTaps(*t, s, taps).r, 25);  // 0·¾ + 100·¼
+}
+
+TEST(Sampler3D, TrilinearReproducesALinearFunction) {
+    TextureMemory mem(profile(ProfileId::SgiOctaneMxe));
+    auto t = makeRgba8(mem, {TextureTarget::Texture3D, TexelFormat::RGBA8, 8, 4, 2, 1, 1},
+                       [](int, int, int x, int y, int z, int) {
+                           return Rgba8{uint8_t(10 * x + 20 * y + 40 * z), 0, 0, 255};
+                       });
+    SamplerState s;
+    s.address = {AddressMode::ClampToEdge, AddressMode::ClampToEdge, AddressMode::ClampToEdge,
+                 AddressMode::ClampToEdge};
+    // u − ½ = (2.25, 1.5, 0.75): 22.5 + 30 + 30 = 82.5 → 83 (half up).
+    TapList taps;
+    gatherTaps(*t, s, glm::vec4(2.75f / 8, 2.0f / 4, 1.25f / 2, 0), kMagnify, taps);
+    EXPECT_EQ(taps.count, 8);
+    EXPECT_EQ(resolveTaps(*t, s, taps).r, 83);
+}
+
 TEST(SamplerFastPath, MatchesReferenceUnderRandomStates) {
     TextureMemory mem(profile(ProfileId::GeForce8800));
     Rng rng(2024);
