@@ -235,6 +235,19 @@ void TextureUnits::validate(const Profile& p) const {
                            p.colorTableSize);
         }
     }
+    // Coordinate generation of the sets the stages read: Direct3D has only its TCI modes
+    // (OBJECT_LINEAR, EYE_LINEAR and SPHERE_MAP are glTexGen's).
+    if (p.api != Api::OpenGL12) {
+        const uint32_t used = texCoordSetsUsed();
+        for (int set = 0; set < kMaxTexCoordSets; ++set) {
+            if (!(used & (1u << set))) continue;
+            const TexGenMode m = texGen_[size_t(set)].mode;
+            if (m == TexGenMode::ObjectLinear || m == TexGenMode::EyeLinear || m == TexGenMode::SphereMap)
+                throw UnsupportedFeature(std::string(p.name), "OpenGL texture-coordinate generation",
+                                         "set " + std::to_string(set) + " uses a glTexGen mode; "
+                                         "Direct3D offers D3DTSS_TCI_* and the texture matrix");
+        }
+    }
     if (pixelTexture_.enabled) {
         p.require(Feature::PixelTexture);
         checkStage(pixelTexture_.stage);

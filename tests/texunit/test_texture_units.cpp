@@ -127,6 +127,16 @@ TEST(TextureUnits, ValidateAgainstProfiles) {
     tu.setStage(0, op(TextureOp::Modulate));
     tu.setTexture(0, partial);
     EXPECT_THROW(tu.validate(fx.gf), InvalidState);
+    // glTexGen modes exist on the OpenGL machines only.
+    tu.setTexture(0, fx.tex2d);
+    TexGenState sphere;
+    sphere.mode = TexGenMode::SphereMap;
+    tu.setTexGen(0, sphere);
+    EXPECT_THROW(tu.validate(fx.gf), UnsupportedFeature);
+    EXPECT_NO_THROW(tu.validate(profile(ProfileId::SgiOctaneMxe)));
+    sphere.mode = TexGenMode::CameraSpaceReflectionVector;
+    tu.setTexGen(0, sphere);
+    EXPECT_NO_THROW(tu.validate(fx.gf));
     // A stage index past the device's array is refused at once.
     EXPECT_THROW(tu.setStage(kMaxStages, StageState{}), InvalidState);
 }
