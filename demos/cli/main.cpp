@@ -22,6 +22,8 @@ namespace {
 
 struct GlobalOptions {
     int threads = 0;
+    std::string path = "fast";
+    bool stats = false;
 };
 
 int hardwareThreads() {
@@ -83,6 +85,8 @@ int runReproduce(const std::string& name, const std::string& quality, const std:
     else
         throw rg::Error("unknown quality '" + quality + "' (use quick or paper)");
     base.threads = g.threads;
+    base.referencePath = g.path == "reference";
+    base.stats = g.stats;
     base.scene = scene;
     base.views = views;
 
@@ -136,6 +140,11 @@ int main(int argc, char** argv) {
     GlobalOptions g;
     app.add_option("--threads", g.threads, "worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
+    app.add_option("--path", g.path,
+                   "rasterizer implementation: fast (tiles, threads, SIMD) or reference (the "
+                   "scalar code that reads like docs/hardware.md); both give the same bytes")
+        ->check(CLI::IsMember({"fast", "reference"}));
+    app.add_flag("--stats", g.stats, "print the emulated device's per-frame counters");
 
     auto* profiles = app.add_subcommand("profiles", "print every hardware profile and its limits");
 

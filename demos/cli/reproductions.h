@@ -14,6 +14,8 @@ struct ReproduceOptions {
     Quality quality = Quality::Quick;
     std::filesystem::path outDir;  // the paper's own folder, e.g. out/pem
     int threads = 0;
+    bool referencePath = false;    // --path reference: the scalar reference rasterizer
+    bool stats = false;            // --stats: print the emulated device's counters
     std::string scene;             // --scene FILE, empty for the built-in scene
     std::string views;             // --views A:B, empty for all
 };

@@ -219,8 +219,9 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
                 std::string(profile.name).c_str());
     PemScene ps = makePemScene(std::move(scene), pso);
     ray::Accel accel(ps.scene);
+    const Path rasterPath = options.referencePath ? Path::Reference : Path::Fast;
     raster::Device device(profile, S.width, S.height, raster::DepthFormat::D24,
-                          {Path::Fast, S.threads});
+                          {rasterPath, S.threads});
     PemRenderer renderer(device, ps);
 
     // ---- EM resolution: the finest MIPMAP level actually accessed (001 §4) ---------------
@@ -352,7 +353,7 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     nlohmann::json viewer;
     {
         raster::Device vdev(profile, S.viewerWidth, S.viewerHeight, raster::DepthFormat::D24,
-                            {Path::Fast, S.threads});
+                            {rasterPath, S.threads});
         PemRenderer vr(vdev, ps);
         PemSample a = uploadSample(vr, sk, EmMode::Layered);
         PemSample b = uploadSample(vr, sk1, EmMode::Layered);
@@ -374,6 +375,10 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
             }
             texgen /= S.viewerFrames;
             frame /= S.viewerFrames;
+            if (options.stats)
+                std::printf("pem: viewer frame %s the manifold, %dx%d, path %s:\n%s", blendedRun ? "off" : "on",
+                            S.viewerWidth, S.viewerHeight, std::string(pathName(rasterPath)).c_str(),
+                            vdev.counters().toString().c_str());
             viewer[blendedRun ? "off_manifold" : "on_manifold"] = {
                 {"texgen_ms", texgen},
                 {"frame_ms", frame},
