@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <tuple>
 
 #include <Eigen/IterativeLinearSolvers>
 
@@ -78,6 +82,23 @@ Eigen::SparseMatrix<double> regulariser(const TexelLayout& L, const InferenceOpt
     return R;
 }
 
+// The regulariser depends only on the layout and the weights, and every layer of every
+// view of a PEM shares them: build it once per process.
+std::shared_ptr<const Eigen::SparseMatrix<double>> cachedRegulariser(const TexelLayout& L,
+                                                                     const InferenceOptions& o) {
+    static std::mutex mutex;
+    static std::map<std::tuple<int, int, double, double>,
+                    std::shared_ptr<const Eigen::SparseMatrix<double>>> cache;
+    auto key = std::make_tuple(L.baseSize, L.faces, o.smoothness, o.levelCoupling);
+    {
+        std::lock_guard lock(mutex);
+        if (auto it = cache.find(key); it != cache.end()) return it->second;
+    }
+    auto R = std::make_shared<const Eigen::SparseMatrix<double>>(regulariser(L, o));
+    std::lock_guard lock(mutex);
+    return cache.emplace(key, R).first->second;
+}
+
 }  // namespace
 
 InferenceSystem::InferenceSystem(const RenderingMatrix& m, const InferenceOptions& o)
@@ -87,7 +108,7 @@ InferenceSystem::InferenceSystem(const RenderingMatrix& m, const InferenceOption
     // Normal equations of  ‖Ax − b‖² + xᵀRx + μ‖x − x̄‖².
     At_ = m.A.transpose();
     H_ = At_ * m.A;
-    H_ += regulariser(m.layout, o);
+    H_ += *cachedRegulariser(m.layout, o);
     Eigen::SparseMatrix<double> I(n, n);
     I.setIdentity();
     H_ += o.prior * I;
