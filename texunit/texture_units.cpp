@@ -64,6 +64,7 @@ void TextureUnits::setStage(int i, const StageState& s) {
             throw InvalidState("stage " + std::to_string(i) + ": texture argument 0x" +
                                std::to_string(int(a)) + " is not a D3DTA_ value");
     units_[size_t(i)].stage = s;
+    refresh();
 }
 const StageState& TextureUnits::stage(int i) const {
     checkStage(i);
@@ -72,6 +73,7 @@ const StageState& TextureUnits::stage(int i) const {
 void TextureUnits::setTexture(int i, std::shared_ptr<const Texture> t) {
     checkStage(i);
     units_[size_t(i)].texture = std::move(t);
+    refresh();
 }
 const std::shared_ptr<const Texture>& TextureUnits::texture(int i) const {
     checkStage(i);
@@ -138,7 +140,14 @@ bool TextureUnits::readsTexture(int i) const {
            (opReads(s.alphaOp, 0) && argIsTexture(s.alphaArg0));
 }
 
-bool TextureUnits::passThrough() const { return activeStages() == 0; }
+void TextureUnits::refresh() {
+    active_ = activeStages();
+    sampling_ = 0;
+    for (int i = 0; i < active_; ++i)
+        if (readsTexture(i)) sampling_ |= 1u << i;
+}
+
+bool TextureUnits::passThrough() const { return active_ == 0; }
 
 uint32_t TextureUnits::texCoordSetsUsed() const {
     uint32_t m = 0;
@@ -345,14 +354,14 @@ std::array<Rgba8, 4> TextureUnits::sampleStage(int stage, const FragmentQuad& qu
 }
 
 void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out, Path path) const {
-    const int n = activeStages();
+    const int n = active_;
     std::array<Rgba8, 4> current = quad.diffuse;
     std::array<Rgba8, 4> premod{};
     bool havePremod = false;
     for (int i = 0; i < n; ++i) {
         const StageState& st = units_[size_t(i)].stage;
         std::array<Rgba8, 4> texel{kWhite, kWhite, kWhite, kWhite};
-        if (readsTexture(i)) texel = sampleStage(i, quad, path);
+        if (sampling_ & (1u << i)) texel = sampleStage(i, quad, path);
         if (havePremod) {
             // D3DTOP_PREMODULATE of the previous stage: its texture multiplies this one's.
             for (int p = 0; p < 4; ++p) {

@@ -129,6 +129,11 @@ class TextureUnits {
     };
     int activeStages() const;  // stages before the first colorOp == Disable
     bool readsTexture(int stage) const;
+    // Re-derives active_ and sampling_ after setStage/setTexture, so the per-quad path
+    // reads two words instead of re-deriving them from the stage states.
+    void refresh();
+    int active_ = 0;         // activeStages()
+    uint32_t sampling_ = 0;  // bit i: readsTexture(i), for i < active_
     void projectQuad(int stage, const FragmentQuad& quad, std::array<glm::vec4, 4>& coords,
                      int32_t& lambda) const;
 
