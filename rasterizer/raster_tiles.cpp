@@ -10,6 +10,7 @@
 
 #include "fragment_quad.h"
 #include "fragment_quad_sse.h"
+#include "raster_span_avx2.h"
 
 namespace rg::raster::detail {
 
@@ -125,6 +126,8 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
     const int fbW = dc.fb->width(), fbH = dc.fb->height();
     sse::Planes planes;
     sse::RowTerms row;
+    // The AVX2 runs cover Gouraud colour without the specular add (raster_span_avx2.h).
+    const bool useAvx2 = kPassThrough && dc.gouraud && !dc.st.specularEnable && haveAvx2();
     if constexpr (kPassThrough)
         if (dc.gouraud) planes.load(t, dc.st.specularEnable ? 8 : 4);
     auto quad = [&](int qx, int qy, unsigned coverage) {
@@ -182,12 +185,29 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
         startRow(qy);
         int l = row0 ? (row1 ? std::min(l0, l1) : l0) : l1;
         int r = row0 ? (row1 ? std::max(r0, r1) : r0) : r1;
-        for (int qx = l & ~1; qx <= r; qx += 2) {
+        auto coverageAt = [&](int qx) {
             unsigned coverage = 0;
             coverage |= unsigned(row0 && qx >= l0 && qx <= r0) << 0;
             coverage |= unsigned(row0 && qx + 1 >= l0 && qx + 1 <= r0) << 1;
             coverage |= unsigned(row1 && qx >= l1 && qx <= r1) << 2;
             coverage |= unsigned(row1 && qx + 1 >= l1 && qx + 1 <= r1) << 3;
+            return coverage;
+        };
+        if constexpr (kPassThrough) {
+            // Runs of quads, two per AVX2 register, when every quad is inside the target.
+            if (useAvx2 && qy + 1 < fbH && (r | 1) < fbW) {
+                uint8_t cov[64];
+                for (int qx = l & ~1; qx <= r;) {
+                    int n = 0;
+                    const int first = qx;
+                    for (; n < 64 && qx <= r; ++n, qx += 2) cov[n] = uint8_t(coverageAt(qx));
+                    quadRunAvx2<kDepth, kBlendMode>(dc, t, planes, row, qy, first, n, cov, rc);
+                }
+                continue;
+            }
+        }
+        for (int qx = l & ~1; qx <= r; qx += 2) {
+            const unsigned coverage = coverageAt(qx);
             if (coverage) quad(qx, qy, coverage);
         }
     }

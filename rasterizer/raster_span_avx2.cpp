@@ -1,0 +1,234 @@
+// AVX2 twin of processQuadSse (fragment_quad_sse.h): two 2×2 quads side by side, one per
+// 128-bit half of each 256-bit register. Every AVX2 instruction used here works lane by
+// lane (floating add/mul/div/max/min/cvtt, 16-bit mullo/srli/add/min/subs, in-lane packs,
+// unpacks and shuffles), so each half computes exactly what the SSE2 kernel computes for
+// its quad; no FMA (only target "avx2", and -ffp-contract=off). Selected at run time.
+#include "raster_span_avx2.h"
+
+#include <immintrin.h>
+
+namespace rg::raster::detail {
+
+bool haveAvx2() {
+    static const bool has = __builtin_cpu_supports("avx2");
+    return has;
+}
+
+namespace {
+
+#define RG_AVX2 __attribute__((target("avx2"), always_inline)) inline
+
+RG_AVX2 __m256 both(__m128 v) { return _mm256_set_m128(v, v); }
+
+RG_AVX2 __m256i broadcastAlpha(__m256i x) {
+    return _mm256_shufflehi_epi16(_mm256_shufflelo_epi16(x, 0xFF), 0xFF);
+}
+
+RG_AVX2 __m256i mulDiv255(__m256i a, __m256i b) {
+    __m256i t = _mm256_add_epi16(_mm256_mullo_epi16(a, b), _mm256_set1_epi16(128));
+    return _mm256_srli_epi16(_mm256_add_epi16(t, _mm256_srli_epi16(t, 8)), 8);
+}
+
+RG_AVX2 __m256i factor(BlendFactor f, __m256i s, __m256i d) {
+    const __m256i k255 = _mm256_set1_epi16(255);
+    switch (f) {
+        case BlendFactor::Zero: return _mm256_setzero_si256();
+        case BlendFactor::One: return k255;
+        case BlendFactor::SrcColor: return s;
+        case BlendFactor::InvSrcColor: return _mm256_sub_epi16(k255, s);
+        case BlendFactor::SrcAlpha:
+        case BlendFactor::BothSrcAlpha: return broadcastAlpha(s);
+        case BlendFactor::InvSrcAlpha:
+        case BlendFactor::BothInvSrcAlpha: return _mm256_sub_epi16(k255, broadcastAlpha(s));
+        case BlendFactor::DestAlpha: return broadcastAlpha(d);
+        case BlendFactor::InvDestAlpha: return _mm256_sub_epi16(k255, broadcastAlpha(d));
+        case BlendFactor::DestColor: return d;
+        case BlendFactor::InvDestColor: return _mm256_sub_epi16(k255, d);
+        case BlendFactor::SrcAlphaSat: {
+            __m256i f3 = _mm256_min_epi16(broadcastAlpha(s), _mm256_sub_epi16(k255, broadcastAlpha(d)));
+            const __m256i alphaLanes = _mm256_set_epi16(-1, 0, 0, 0, -1, 0, 0, 0, -1, 0, 0, 0, -1, 0, 0, 0);
+            return _mm256_or_si256(_mm256_andnot_si256(alphaLanes, f3), _mm256_and_si256(alphaLanes, k255));
+        }
+    }
+    return _mm256_setzero_si256();
+}
+
+RG_AVX2 __m256i blend4(BlendFactor srcF, BlendFactor dstF, BlendOp op, __m256i s, __m256i d) {
+    switch (op) {
+        case BlendOp::Min: return _mm256_min_epi16(s, d);
+        case BlendOp::Max: return _mm256_max_epi16(s, d);
+        default: break;
+    }
+    const BlendFactor df = effectiveDestFactor(srcF, dstF);
+    __m256i sp = mulDiv255(s, factor(srcF, s, d));
+    __m256i dp = mulDiv255(d, factor(df, s, d));
+    switch (op) {
+        case BlendOp::Add: return _mm256_min_epi16(_mm256_add_epi16(sp, dp), _mm256_set1_epi16(255));
+        case BlendOp::Subtract: return _mm256_subs_epu16(sp, dp);
+        case BlendOp::RevSubtract: return _mm256_subs_epu16(dp, sp);
+        default: return sp;
+    }
+}
+
+RG_AVX2 __m256i channelToInt(__m256 v) {
+    v = _mm256_max_ps(v, _mm256_setzero_ps());
+    v = _mm256_min_ps(v, _mm256_set1_ps(255.0f));
+    return _mm256_cvttps_epi32(_mm256_add_ps(v, _mm256_set1_ps(0.5f)));
+}
+
+RG_AVX2 __m256i toPixels(__m256i r, __m256i g, __m256i b, __m256i a) {
+    __m256i x = _mm256_packus_epi16(_mm256_packs_epi32(r, b), _mm256_packs_epi32(g, a));
+    __m256i lo = _mm256_unpacklo_epi8(x, _mm256_srli_si256(x, 8));
+    return _mm256_unpacklo_epi16(lo, _mm256_srli_si256(lo, 8));
+}
+
+template <bool kDepth, int kBlendMode>
+__attribute__((target("avx2"), always_inline)) inline void pairAvx2(const DrawContext& dc, const SetupTriangle& t,
+                                              const __m256 (&c)[4], const __m256 (&dx)[4],
+                                              const __m256 (&dyfy)[4], __m256 wc, __m256 wdx,
+                                              __m256 wdyfy, bool perspective, bool flatW,
+                                              __m256 flatR, int qx, int qy, unsigned cov,
+                                              RasterCounters& rc) {
+    const PipelineState& st = dc.st;
+    // fx of the eight pixels: quad qx in the low half, quad qx + 2 in the high half.
+    const __m256 fx = _mm256_sub_ps(
+        _mm256_setr_ps(float(qx) + 0.5f, float(qx + 1) + 0.5f, float(qx) + 0.5f,
+                       float(qx + 1) + 0.5f, float(qx + 2) + 0.5f, float(qx + 3) + 0.5f,
+                       float(qx + 2) + 0.5f, float(qx + 3) + 0.5f),
+        _mm256_set1_ps(t.x0));
+    __m256 r = _mm256_set1_ps(1.0f);
+    if (perspective) {
+        if (flatW) {
+            r = flatR;
+        } else {
+            __m256 w = _mm256_add_ps(_mm256_add_ps(wc, _mm256_mul_ps(wdx, fx)), wdyfy);
+            r = _mm256_div_ps(_mm256_set1_ps(1.0f), w);
+        }
+    }
+    __m256i ch[4];
+    for (int a = 0; a < 4; ++a) {
+        __m256 v = _mm256_add_ps(_mm256_add_ps(c[a], _mm256_mul_ps(dx[a], fx)), dyfy[a]);
+        if (perspective) v = _mm256_mul_ps(v, r);
+        ch[a] = channelToInt(v);
+    }
+    const __m256i src = toPixels(ch[0], ch[1], ch[2], ch[3]);  // quad 0 | quad 1, pixel-major
+
+    Framebuffer& fb = *dc.fb;
+    const size_t width = size_t(fb.width());
+    const size_t row0 = size_t(qy) * width + size_t(qx), row1 = row0 + width;
+    unsigned passed = cov;  // bits 0..3 quad 0, 4..7 quad 1
+    if (!kDepth && !st.alphaTest) {
+        rc.generated += sse::kPopcount4[cov & 15] + sse::kPopcount4[cov >> 4];
+    } else {
+        alignas(32) uint8_t bytes[32];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(bytes), src);
+        passed = 0;
+        for (int k = 0; k < 8; ++k) {
+            if (!(cov & (1u << k))) continue;
+            ++rc.generated;
+            if (st.alphaTest && !comparePasses(st.alphaFunc, bytes[4 * k + 3], st.alphaRef)) continue;
+            if constexpr (kDepth) {
+                const int i = k & 3, q = k >> 2;
+                const int px = qx + 2 * q + (i & 1), py = qy + (i >> 1);
+                const size_t idx = ((i >> 1) ? row1 : row0) + size_t(2 * q + (i & 1));
+                double z = (t.zc + t.zdx * ((double(px) + 0.5) - double(t.x0))) +
+                           t.zdy * ((double(py) + 0.5) - double(t.y0));
+                uint32_t zq = quantizeDepth(z, dc.depthMax);
+                uint32_t& stored = fb.depth()[idx];
+                if (!comparePasses(st.depthFunc, zq, stored)) continue;
+                if (st.depthWrite) stored = zq;
+            }
+            passed |= 1u << k;
+        }
+    }
+    if (!passed) return;
+    const int n = sse::kPopcount4[passed & 15] + sse::kPopcount4[passed >> 4];
+    rc.written += uint64_t(n);
+
+    // Destination: rows of both quads, rearranged to quad 0 | quad 1 like `src`.
+    Rgba8* color = fb.color().data();
+    const __m128i d0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(color + row0));
+    const __m128i d1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(color + row1));
+    const __m256i dst = _mm256_set_m128i(_mm_unpackhi_epi64(d0, d1), _mm_unpacklo_epi64(d0, d1));
+    __m256i out = src;
+    if constexpr (kBlendMode != kBlendNone) {
+        BlendFactor sf = st.srcBlend, df = st.dstBlend;
+        BlendOp op = st.blendOp;
+        if constexpr (kBlendMode == kBlendSrcAlphaInvSrcAlpha) {
+            sf = BlendFactor::SrcAlpha, df = BlendFactor::InvSrcAlpha, op = BlendOp::Add;
+        } else if constexpr (kBlendMode == kBlendOneOne) {
+            sf = BlendFactor::One, df = BlendFactor::One, op = BlendOp::Add;
+        }
+        const __m256i zero = _mm256_setzero_si256();
+        __m256i lo = blend4(sf, df, op, _mm256_unpacklo_epi8(src, zero), _mm256_unpacklo_epi8(dst, zero));
+        __m256i hi = blend4(sf, df, op, _mm256_unpackhi_epi8(src, zero), _mm256_unpackhi_epi8(dst, zero));
+        out = _mm256_packus_epi16(lo, hi);
+        rc.blendOps += uint64_t(n);
+    }
+    if (!(passed == 0xFFu && st.colorWriteMask == kWriteRGBA)) {
+        const uint32_t channels = (st.colorWriteMask & kWriteR ? 0x000000FFu : 0u) |
+                                  (st.colorWriteMask & kWriteG ? 0x0000FF00u : 0u) |
+                                  (st.colorWriteMask & kWriteB ? 0x00FF0000u : 0u) |
+                                  (st.colorWriteMask & kWriteA ? 0xFF000000u : 0u);
+        alignas(32) uint32_t m[8];
+        for (int k = 0; k < 8; ++k) m[k] = (passed & (1u << k)) ? channels : 0u;
+        const __m256i mask = _mm256_load_si256(reinterpret_cast<const __m256i*>(m));
+        out = _mm256_or_si256(_mm256_and_si256(mask, out), _mm256_andnot_si256(mask, dst));
+    }
+    const __m128i q0 = _mm256_castsi256_si128(out), q1 = _mm256_extracti128_si256(out, 1);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(color + row0), _mm_unpacklo_epi64(q0, q1));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(color + row1), _mm_unpackhi_epi64(q0, q1));
+}
+
+template <bool kDepth, int kBlendMode>
+__attribute__((target("avx2"), noinline)) void runAvx2(const DrawContext& dc,
+                                                       const SetupTriangle& t,
+                                                       const sse::Planes& planes,
+                                                       const sse::RowTerms& row, int qy,
+                                                       int qx0, int count,
+                                                       const uint8_t* coverage,
+                                                       RasterCounters& rc) {
+    __m256 c[4], dx[4], dyfy[4];
+    for (int a = 0; a < 4; ++a) {
+        c[a] = both(planes.c[a]);
+        dx[a] = both(planes.dx[a]);
+        dyfy[a] = both(row.dyfy[a]);
+    }
+    const __m256 wc = both(planes.wc), wdx = both(planes.wdx), wdyfy = both(row.wdyfy);
+    const bool perspective = dc.perspectiveColor && !planes.unitW;
+    const __m256 flatR = both(planes.flatR);
+    int k = 0;
+    for (; k + 1 < count; k += 2) {
+        const unsigned cov = unsigned(coverage[k]) | (unsigned(coverage[k + 1]) << 4);
+        if (cov)
+            pairAvx2<kDepth, kBlendMode>(dc, t, c, dx, dyfy, wc, wdx, wdyfy, perspective,
+                                         planes.flatW, flatR, qx0 + 2 * k, qy, cov, rc);
+    }
+    if (k < count && coverage[k])
+        processQuadSse<kDepth, kBlendMode>(dc, t, planes, row, qx0 + 2 * k, qy, coverage[k], rc);
+}
+
+}  // namespace
+
+template <bool kDepth, int kBlendMode>
+void quadRunAvx2(const DrawContext& dc, const SetupTriangle& t, const sse::Planes& planes,
+                 const sse::RowTerms& row, int qy, int qx0, int count, const uint8_t* coverage,
+                 RasterCounters& rc) {
+    runAvx2<kDepth, kBlendMode>(dc, t, planes, row, qy, qx0, count, coverage, rc);
+}
+
+#define RG_INSTANTIATE(D, B)                                                                 \
+    template void quadRunAvx2<D, B>(const DrawContext&, const SetupTriangle&,             \
+                                    const sse::Planes&, const sse::RowTerms&, int, int, int, \
+                                    const uint8_t*, RasterCounters&);
+RG_INSTANTIATE(false, kBlendNone)
+RG_INSTANTIATE(false, kBlendGeneric)
+RG_INSTANTIATE(false, kBlendSrcAlphaInvSrcAlpha)
+RG_INSTANTIATE(false, kBlendOneOne)
+RG_INSTANTIATE(true, kBlendNone)
+RG_INSTANTIATE(true, kBlendGeneric)
+RG_INSTANTIATE(true, kBlendSrcAlphaInvSrcAlpha)
+RG_INSTANTIATE(true, kBlendOneOne)
+#undef RG_INSTANTIATE
+
+}  // namespace rg::raster::detail
