@@ -89,7 +89,7 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
     t.x0 = float(x0);
     t.y0 = float(y0);
 
-    {
+    if (dc.depthOn) {  // only the depth test reads z
         double a0 = v[0]->wz, a1 = v[1]->wz, a2 = v[2]->wz;
         double da1 = a1 - a0, da2 = a2 - a0;
         t.zc = a0;
