@@ -2,9 +2,9 @@
 //
 // Direct3D 7 defines each D3DTOP by a real-valued formula on [0, 1]; the GeForce 256's
 // register-combiner rounding is not documented. We follow two rules, pinned in the docs:
-// every product is rounded once, exactly (arith8::mulDiv255, the round(a·b/255) of the
-// D3D reference rasterizer's float-then-round), and every sum saturates (arith8::addSat),
-// as the combiners' clamped output mapping does. The 2× and 4× scales are the combiners'
+// every product is rounded once, exactly (arith8::mulDiv255 = round(a·b/255), so each op is
+// its real formula rounded to 8 bits, with the blender's multiply), and every sum
+// saturates (arith8::addSat), as the combiners' clamped output mapping does. The 2× and 4× scales are the combiners'
 // output shifts applied after the rounded product.
 #include <array>
 #include <string>
