@@ -104,14 +104,20 @@ void runRetroglass(benchmark::State& state, bool secondary, Layout layout, int t
     for (auto _ : state) {
         forChunks(rays.size(), threads, [&](size_t begin, size_t end) {
             float sink = 0.0f;
-            Hit hits[16];
-            const size_t step = layout == Layout::Single ? 1 : layout == Layout::Packet8 ? 8 : 16;
-            for (size_t i = begin; i < end; i += step) {
-                if (layout == Layout::Single) hits[0] = accel.intersect(rays[i]);
-                else if (layout == Layout::Packet8) accel.intersect8(&rays[i], hits, 8);
-                else accel.intersect16(&rays[i], hits, 16);
-                for (size_t k = 0; k < step; ++k)
-                    if (hits[k].valid()) sink += accel.surface(rays[i + k], hits[k]).ns.x;
+            if (layout == Layout::Single) {
+                for (size_t i = begin; i < end; ++i) {
+                    const Hit h = accel.intersect(rays[i]);
+                    if (h.valid()) sink += accel.surface(rays[i], h).ns.x;
+                }
+            } else {
+                Hit hits[16];
+                const int w = layout == Layout::Packet8 ? 8 : 16;
+                for (size_t i = begin; i < end; i += size_t(w)) {
+                    if (w == 8) accel.intersect8(&rays[i], hits, 8);
+                    else accel.intersect16(&rays[i], hits, 16);
+                    for (int k = 0; k < w; ++k)
+                        if (hits[k].valid()) sink += accel.surface(rays[i + size_t(k)], hits[k]).ns.x;
+                }
             }
             benchmark::DoNotOptimize(sink);
         });

@@ -111,11 +111,10 @@ Accel::Accel(const Scene& scene) : scene_(scene) {
         rtcAttachGeometryByID(rtcScene_, g, oi);
         rtcReleaseGeometry(g);
         WorldMesh& w = meshes_[oi];
-        w.normals = std::move(m.normals);
-        w.uvs = std::move(m.uvs);
+        w.vertices.resize(m.positions.size());
+        for (size_t i = 0; i < m.positions.size(); ++i) w.vertices[i] = {m.normals[i], m.uvs[i]};
         w.indices = std::move(m.indices);
-        w.triPart.resize(w.indices.size() / 3);
-        for (uint32_t t = 0; t < w.triPart.size(); ++t) w.triPart[t] = m.partOfTriangle(t);
+        for (const MeshPart& p : m.parts) w.partStarts.push_back(p.firstTriangle);
         w.material = &scene.materials[o.material];
     }
     rtcCommitScene(rtcScene_);
@@ -223,19 +222,24 @@ SurfacePoint Accel::surface(const Ray& ray, const Hit& hit) const {
     const uint32_t* tri = &w.indices[size_t(hit.triangle) * 3];
     const float b0 = 1.0f - hit.u - hit.v;
     s.p = ray.origin + hit.t * ray.dir;
+    // One division per normal, then multiplies: divss dominated this function's profile.
     float lenNg = glm::length(hit.ng);
-    s.ng = lenNg > 0.0f ? hit.ng / lenNg : glm::vec3(0, 1, 0);
-    glm::vec3 ns = b0 * w.normals[tri[0]] + hit.u * w.normals[tri[1]] + hit.v * w.normals[tri[2]];
+    s.ng = lenNg > 0.0f ? hit.ng * (1.0f / lenNg) : glm::vec3(0, 1, 0);
+    const VertexAttributes& a0 = w.vertices[tri[0]];
+    const VertexAttributes& a1 = w.vertices[tri[1]];
+    const VertexAttributes& a2 = w.vertices[tri[2]];
+    glm::vec3 ns = b0 * a0.normal + hit.u * a1.normal + hit.v * a2.normal;
     float lenNs = glm::length(ns);
-    s.ns = lenNs > 0.0f ? ns / lenNs : s.ng;
+    s.ns = lenNs > 0.0f ? ns * (1.0f / lenNs) : s.ng;
     // Interpolated normals of a badly wound or inconsistent mesh may face the other way;
     // shading then follows the geometry.
     if (glm::dot(s.ns, s.ng) < 0.0f) s.ns = -s.ns;
-    s.uv = b0 * w.uvs[tri[0]] + hit.u * w.uvs[tri[1]] + hit.v * w.uvs[tri[2]];
+    s.uv = b0 * a0.uv + hit.u * a1.uv + hit.v * a2.uv;
     s.frontFace = glm::dot(ray.dir, s.ng) < 0.0f;
     s.object = hit.object;
     s.triangle = hit.triangle;
-    s.part = w.triPart[hit.triangle];
+    s.part = 0;
+    for (uint32_t p = 1; p < w.partStarts.size() && w.partStarts[p] <= hit.triangle; ++p) s.part = p;
     s.material = w.material;
     return s;
 }

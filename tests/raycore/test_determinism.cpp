@@ -1,6 +1,7 @@
 // Identical image bytes for any thread count: every sample position is keyed by
 // (pixel, sample), rows are independent, counters are summed per row.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "raycore/builtin_scenes.h"
 #include "raycore/layers_pem.h"
@@ -12,6 +13,9 @@ namespace rg::ray {
 namespace {
 
 TEST(Determinism, SameBytesFor1And2And4Threads) {
+    // Let the arenas have 4 threads even on a 2-core machine (TBB caps workers at the core
+    // count otherwise): oversubscription only shuffles the schedule more.
+    tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 4);
     BuiltinOptions b;
     b.teapotLevel = 8;
     Scene s = makeBuiltinScene("teapot-in-room", b);

@@ -72,11 +72,16 @@ class Accel {
     glm::vec3 offsetOrigin(const SurfacePoint& s, glm::vec3 dir) const;
 
   private:
+    // Shading attributes interleaved per vertex: resolving a hit touches three vertices,
+    // and with normal and uv side by side that is three cache lines, not six.
+    struct VertexAttributes {
+        glm::vec3 normal;
+        glm::vec2 uv;
+    };
     struct WorldMesh {
-        std::vector<glm::vec3> normals;
-        std::vector<glm::vec2> uvs;
+        std::vector<VertexAttributes> vertices;
         std::vector<uint32_t> indices;
-        std::vector<uint32_t> triPart;
+        std::vector<uint32_t> partStarts;  // first triangle of each part (few, stays cached)
         const Material* material = nullptr;
     };
     const Scene& scene_;
