@@ -21,7 +21,9 @@ PipelineState countingState() {
     return s;
 }
 
-int64_t snap4(float x) { return int64_t(std::floor(double(x) * 16.0 + 0.5)); }
+int64_t snapBits(float x, int bits) {
+    return int64_t(std::floor(double(x) * double(1 << bits) + 0.5));
+}
 
 class FillRule : public ::testing::TestWithParam<Path> {};
 
@@ -31,8 +33,11 @@ class FillRule : public ::testing::TestWithParam<Path> {};
 TEST_P(FillRule, RectangleFromTwoTrianglesHasNoGapsAndNoDoubleHits) {
     std::mt19937 rng(1234);
     std::uniform_real_distribution<float> coord(0.0f, 40.0f);
-    for (int iter = 0; iter < 200; ++iter) {
-        Device dev(geforce256(), 48, 44, DepthFormat::None, {GetParam(), 2});
+    for (int iter = 0; iter < 400; ++iter) {
+        // 4 subpixel bits (GeForce 256) and 8 (GeForce 8800) on alternate pairs.
+        const Profile& prof = profile((iter & 4) ? ProfileId::GeForce8800 : ProfileId::GeForce256);
+        const int bits = prof.subpixelBits;
+        Device dev(prof, 48, 44, DepthFormat::None, {GetParam(), 2});
         dev.setState(countingState());
         float x0 = coord(rng), x1 = coord(rng), y0 = coord(rng), y1 = coord(rng);
         if (x0 > x1) std::swap(x0, x1);
@@ -45,14 +50,16 @@ TEST_P(FillRule, RectangleFromTwoTrianglesHasNoGapsAndNoDoubleHits) {
         if (iter & 2) std::swap(tris[1], tris[2]);  // the other winding
         dev.draw(Primitive::TriangleList, VertexSpace::Pretransformed, tris);
         int expected = 0;
+        const int64_t one_ = int64_t{1} << bits, half = one_ / 2;
         for (int y = 0; y < 44; ++y)
             for (int x = 0; x < 48; ++x) {
-                int64_t sx = x * 16 + 8, sy = y * 16 + 8;
-                bool in = sx >= snap4(x0) && sx < snap4(x1) && sy >= snap4(y0) && sy < snap4(y1);
+                int64_t sx = x * one_ + half, sy = y * one_ + half;
+                bool in = sx >= snapBits(x0, bits) && sx < snapBits(x1, bits) &&
+                          sy >= snapBits(y0, bits) && sy < snapBits(y1, bits);
                 expected += in;
                 ASSERT_EQ(dev.framebuffer().pixel(x, y).r, in ? 1 : 0)
                     << "pixel (" << x << ", " << y << ") rect " << x0 << "," << y0 << " " << x1
-                    << "," << y1 << " iteration " << iter << " (seed 1234)";
+                    << "," << y1 << " iteration " << iter << " (seed 1234, " << prof.name << ")";
             }
         EXPECT_EQ(dev.counters().fragmentsGenerated, uint64_t(expected));
     }
