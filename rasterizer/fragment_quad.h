@@ -16,9 +16,11 @@
 //                                    +---+---+
 #pragma once
 
+#include <xmmintrin.h>
 #include <emmintrin.h>
 
 #include <cstring>
+#include <optional>
 
 #include "pipeline.h"
 #include "rasterizer/fragment_ops.h"
@@ -62,9 +64,13 @@ inline Rgba8 blendFast(const PipelineState& st, Rgba8 s, Rgba8 d) {
     return blendPixel(st.srcBlend, st.dstBlend, st.blendOp, s, d);
 }
 
+// `scratch`, when given, is a FragmentQuad the caller reuses for all quads of one triangle
+// (every quad writes the same coordinate sets, the others stay zero), which saves zeroing
+// its 600 bytes per quad; null: a fresh one.
 template <bool kSpecialized, bool kDepth, bool kBlend, bool kPassThrough>
 inline void processQuad(const DrawContext& dc, const SetupTriangle& t, const Plane* texPool,
-                        int qx, int qy, unsigned coverage, RasterCounters& rc) {
+                        int qx, int qy, unsigned coverage, RasterCounters& rc,
+                        tex::FragmentQuad* scratch = nullptr) {
     const bool depthOn = kSpecialized ? kDepth : dc.depthOn;
     const bool blendOn = kSpecialized ? kBlend : dc.st.blend != 0;
     const bool passThrough = kSpecialized ? kPassThrough : dc.passThrough;
@@ -82,9 +88,18 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, const Pla
         fy[i] = (float(qy + (i >> 1)) + 0.5f) - t.y0;
     }
     const bool needR = (dc.gouraud && dc.perspectiveColor) || dc.numTexSets > 0;
-    if (needR)
-        for (int i = 0; i < 4; ++i)
-            if (evalMask & (1u << i)) r[i] = 1.0f / t.invW.at(fx[i], fy[i]);
+    if (needR) {
+        if (kSpecialized && evalMask == 0xFu) {  // the same four divisions, in one register
+            const __m128 fx4 = _mm_loadu_ps(fx), fy4 = _mm_loadu_ps(fy);
+            const __m128 w = _mm_add_ps(
+                _mm_add_ps(_mm_set1_ps(t.invW.c), _mm_mul_ps(_mm_set1_ps(t.invW.dx), fx4)),
+                _mm_mul_ps(_mm_set1_ps(t.invW.dy), fy4));
+            _mm_storeu_ps(r, _mm_div_ps(_mm_set1_ps(1.0f), w));
+        } else {
+            for (int i = 0; i < 4; ++i)
+                if (evalMask & (1u << i)) r[i] = 1.0f / t.invW.at(fx[i], fy[i]);
+        }
+    }
 
     std::array<Rgba8, 4> diffuse, specular;
     if (!dc.gouraud) {
@@ -116,20 +131,41 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, const Pla
 
     // ---- texture stages (texunit/) ------------------------------------------------------
     std::array<Rgba8, 4> color;
-    tex::FragmentQuad q;
+    std::optional<tex::FragmentQuad> own;
+    tex::FragmentQuad* qp = scratch;
+    if (!(passThrough && !observed) && !qp) qp = &own.emplace();
     if (passThrough && !observed) {
         color = diffuse;
     } else {
+        tex::FragmentQuad& q = *qp;
         q.x = qx;
         q.y = qy;
         q.coverage = uint8_t(coverage);
         q.diffuse = diffuse;
         q.specular = specular;
         const Plane* tp = texPool + t.texPlanes;
-        for (int k = 0; k < dc.numTexSets; ++k)
-            for (int i = 0; i < 4; ++i)
-                for (int c = 0; c < 4; ++c)
-                    q.texCoord[dc.texSets[k]][i][c] = tp[4 * k + c].at(fx[i], fy[i]) * r[i];
+        if constexpr (kSpecialized) {
+            // One component of the four pixels per register, then a 4×4 transpose into
+            // the per-pixel (s, t, r, q): the operations of Plane::at and ·r, lane-wise.
+            const __m128 fx4 = _mm_loadu_ps(fx), fy4 = _mm_loadu_ps(fy), r4 = _mm_loadu_ps(r);
+            for (int k = 0; k < dc.numTexSets; ++k) {
+                __m128 v[4];
+                for (int c = 0; c < 4; ++c) {
+                    const Plane& p = tp[4 * k + c];
+                    v[c] = _mm_mul_ps(
+                        _mm_add_ps(_mm_add_ps(_mm_set1_ps(p.c), _mm_mul_ps(_mm_set1_ps(p.dx), fx4)),
+                                   _mm_mul_ps(_mm_set1_ps(p.dy), fy4)),
+                        r4);
+                }
+                _MM_TRANSPOSE4_PS(v[0], v[1], v[2], v[3]);
+                for (int i = 0; i < 4; ++i) _mm_storeu_ps(&q.texCoord[dc.texSets[k]][i][0], v[i]);
+            }
+        } else {
+            for (int k = 0; k < dc.numTexSets; ++k)
+                for (int i = 0; i < 4; ++i)
+                    for (int c = 0; c < 4; ++c)
+                        q.texCoord[dc.texSets[k]][i][c] = tp[4 * k + c].at(fx[i], fy[i]) * r[i];
+        }
         if (passThrough)
             color = diffuse;
         else
@@ -168,7 +204,7 @@ inline void processQuad(const DrawContext& dc, const SetupTriangle& t, const Pla
         }
         dst = applyWriteMask(st.colorWriteMask, c, dst);
     }
-    if (observed) (*dc.fragmentObserver)(q, uint8_t(written));
+    if (observed) (*dc.fragmentObserver)(*qp, uint8_t(written));
 }
 
 }  // namespace rg::raster::detail

@@ -11,6 +11,7 @@ void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>&
     const int s = dc.subpixelBits;
     const int64_t half = int64_t{1} << (s - 1);
     for (const SetupTriangle& t : tris) {
+        tex::FragmentQuad fragment;  // reused by the triangle's quads (fragment_quad.h)
         for (int qy = t.minY & ~1; qy <= t.maxY; qy += 2)
             for (int qx = t.minX & ~1; qx <= t.maxX; qx += 2) {
                 unsigned coverage = 0;
@@ -23,7 +24,8 @@ void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>&
                         inside = inside && t.C[e] + t.A[e] * X + t.B[e] * Y >= 0;
                     if (inside) coverage |= 1u << i;
                 }
-                if (coverage) processQuad<false, false, false, false>(dc, t, texPool.data(), qx, qy, coverage, rc);
+                if (coverage) processQuad<false, false, false, false>(dc, t, texPool.data(), qx, qy, coverage, rc,
+                                                        &fragment);
             }
     }
 }

@@ -7,6 +7,7 @@
 #include "raster_tiles.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "fragment_quad.h"
 #include "fragment_quad_sse.h"
@@ -126,6 +127,8 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
     const int fbW = dc.fb->width(), fbH = dc.fb->height();
     sse::Planes planes;
     sse::RowTerms row;
+    std::optional<tex::FragmentQuad> fragment;  // one per triangle for the texture stages
+    if constexpr (!kPassThrough) fragment.emplace();
     // The AVX2 runs cover Gouraud colour without the specular add (raster_span_avx2.h).
     const bool useAvx2 = kPassThrough && dc.gouraud && !dc.st.specularEnable && haveAvx2();
     if constexpr (kPassThrough)
@@ -137,7 +140,8 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
                 return;
             }
         }
-        processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, texPool, qx, qy, coverage, rc);
+        processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, texPool, qx, qy, coverage, rc,
+                                                        kPassThrough ? nullptr : &*fragment);
     };
     auto startRow = [&](int qy) {
         if constexpr (kPassThrough)
