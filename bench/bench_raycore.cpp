@@ -7,7 +7,9 @@
 //             secondary_incoherent  one bounce from every primary hit in a direction hashed
 //                                   from the pixel (uniform over the hemisphere), so
 //                                   neighbouring rays share nothing
-//   layout    single (rtcIntersect1), packet8 (rtcIntersect8), packet16 (rtcIntersect16)
+//   layout    single (rtcIntersect1), packet8 (rtcIntersect8), packet16 (rtcIntersect16),
+//             stream (rtcIntersect1M over the 256 rays of a chunk, flagged coherent for
+//             primary and incoherent for secondary rays)
 #include <benchmark/benchmark.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -83,15 +85,17 @@ const Fixture& fixture() {
     return *f;
 }
 
-enum class Layout { Single, Packet8, Packet16 };
+enum class Layout { Single, Packet8, Packet16, Stream };
 
-// Splits [0, n) into packet-aligned chunks over `threads` TBB workers.
+// Splits [0, n) into packet-aligned chunks over `threads` TBB workers (n is a multiple
+// of 16, so packets never run past the end).
 template <class F>
 void forChunks(size_t n, int threads, F&& f) {
     tbb::task_arena arena(threads);
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, n / 256), [&](const tbb::blocked_range<size_t>& r) {
-            f(r.begin() * 256, std::min(n, r.end() * 256));
+        // Chunks of 256 rays (a multiple of every packet width); f sees one chunk at a time.
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, (n + 255) / 256), [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t c = r.begin(); c != r.end(); ++c) f(c * 256, std::min(n, (c + 1) * 256));
         });
     });
 }
@@ -109,6 +113,11 @@ void runRetroglass(benchmark::State& state, bool secondary, Layout layout, int t
                     const Hit h = accel.intersect(rays[i]);
                     if (h.valid()) sink += accel.surface(rays[i], h).ns.x;
                 }
+            } else if (layout == Layout::Stream) {
+                Hit hits[256];
+                accel.intersectStream(&rays[begin], hits, end - begin, !secondary);
+                for (size_t i = begin; i < end; ++i)
+                    if (hits[i - begin].valid()) sink += accel.surface(rays[i], hits[i - begin]).ns.x;
             } else {
                 Hit hits[16];
                 const int w = layout == Layout::Packet8 ? 8 : 16;
@@ -144,7 +153,13 @@ void runEmbree(benchmark::State& state, bool secondary, Layout layout, int threa
             RTCIntersectContext ctx;
             rtcInitIntersectContext(&ctx);
             unsigned sink = 0;
-            if (layout == Layout::Single) {
+            if (layout == Layout::Stream) {
+                RTCRayHit batch[256];
+                std::copy(single.begin() + long(begin), single.begin() + long(end), batch);
+                ctx.flags = secondary ? RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT : RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+                rtcIntersect1M(scene, &ctx, batch, unsigned(end - begin), sizeof(RTCRayHit));
+                sink += batch[0].hit.geomID;
+            } else if (layout == Layout::Single) {
                 for (size_t i = begin; i < end; ++i) {
                     RTCRayHit rh = single[i];  // fresh tfar each iteration
                     rtcIntersect1(scene, &ctx, &rh);
@@ -199,7 +214,10 @@ const bool registered = [] {
     const struct {
         const char* name;
         Layout layout;
-    } layouts[] = {{"single", Layout::Single}, {"packet8", Layout::Packet8}, {"packet16", Layout::Packet16}};
+    } layouts[] = {{"single", Layout::Single},
+                   {"packet8", Layout::Packet8},
+                   {"packet16", Layout::Packet16},
+                   {"stream", Layout::Stream}};
     for (const auto& wl : workloads)
         for (const auto& lay : layouts)
             for (int t : threadCounts) {

@@ -215,6 +215,31 @@ void Accel::intersect16(const Ray* rays, Hit* hits, int count) const {
     intersectPacket<16, RTCRayHit16, rtcIntersect16>(rtcScene_, rays, hits, std::min(count, 16));
 }
 
+void Accel::intersectStream(const Ray* rays, Hit* hits, size_t count, bool coherent) const {
+    constexpr size_t kBatch = 256;
+    RTCRayHit rh[kBatch];
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    for (size_t begin = 0; begin < count; begin += kBatch) {
+        const size_t n = std::min(kBatch, count - begin);
+        for (size_t i = 0; i < n; ++i) setRay(rh[i], rays[begin + i]);
+        rtcIntersect1M(rtcScene_, &ctx, rh, unsigned(n), sizeof(RTCRayHit));
+        for (size_t i = 0; i < n; ++i) {
+            Hit h;
+            if (rh[i].hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+                h.t = rh[i].ray.tfar;
+                h.u = rh[i].hit.u;
+                h.v = rh[i].hit.v;
+                h.object = rh[i].hit.geomID;
+                h.triangle = rh[i].hit.primID;
+                h.ng = outwardNg(rh[i].hit.Ng_x, rh[i].hit.Ng_y, rh[i].hit.Ng_z);
+            }
+            hits[begin + i] = h;
+        }
+    }
+}
+
 SurfacePoint Accel::surface(const Ray& ray, const Hit& hit) const {
     SurfacePoint s;
     if (!hit.valid()) return s;

@@ -152,6 +152,13 @@ TEST(Accel, PacketsAgreeWithSingleRays) {
             EXPECT_EQ(h8[i].object, one.object);
         }
     }
+    // A stream gives the same answers.
+    std::vector<Hit> stream(rays.size());
+    accel.intersectStream(rays.data(), stream.data(), rays.size(), true);
+    for (size_t i = 0; i < rays.size(); ++i) {
+        EXPECT_EQ(stream[i].object, h16[i].object) << i;
+        EXPECT_EQ(stream[i].t, h16[i].t) << i;
+    }
     // A partial packet leaves the rest alone and still answers the valid lanes.
     Hit part[16];
     accel.intersect16(rays.data(), part, 5);

@@ -57,6 +57,10 @@ class Accel {
     // Packets of 8 or 16 (Embree's SIMD ray layouts), for coherent primary rays.
     void intersect8(const Ray* rays, Hit* hits, int count) const;
     void intersect16(const Ray* rays, Hit* hits, int count) const;
+    // A stream of any length (rtcIntersect1M): Embree regroups the rays itself; `coherent`
+    // tells it the rays start together and point alike (camera rays), so it traces them as
+    // packets.
+    void intersectStream(const Ray* rays, Hit* hits, size_t count, bool coherent) const;
 
     SurfacePoint surface(const Ray& ray, const Hit& hit) const;
 
