@@ -95,8 +95,11 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         for (uint32_t i = b; i < e; ++i) {
             auto tv = triangleVertices(primitive, i);
             uint32_t a = vertexOf(tv[0]), bb = vertexOf(tv[1]), c = vertexOf(tv[2]);
-            clipAndSetup(dc, processed[a], processed[bb], processed[c], vertices[a].diffuse,
-                         vertices[a].specular, out, texPool, gc);
+            // The provoking vertex's bytes matter only for flat shading.
+            const Rgba8 flatD = dc.gouraud ? Rgba8{} : vertices[a].diffuse;
+            const Rgba8 flatS = dc.gouraud ? Rgba8{} : vertices[a].specular;
+            clipAndSetup(dc, processed[a], processed[bb], processed[c], flatD, flatS, out,
+                         texPool, gc);
         }
     };
 

@@ -97,7 +97,7 @@ struct Planes {
     // the same value for every pixel, so it is computed once; when it is exactly 1 the
     // ·r is the identity and is skipped. Both are exact, not approximations.
     bool flatW = false, unitW = false;
-    __m128 flatR;
+    __m128 flatR = _mm_set1_ps(1.0f);
     int count = 0;
     void load(const SetupTriangle& t, int n) {
         count = n;
@@ -111,9 +111,11 @@ struct Planes {
         wdy = _mm_set1_ps(t.invW.dy);
         flatW = t.invW.dx == 0.0f && t.invW.dy == 0.0f && std::isfinite(t.invW.c) &&
                 t.invW.c != 0.0f;
-        const float r = 1.0f / t.invW.c;
-        unitW = flatW && r == 1.0f;
-        flatR = _mm_set1_ps(r);
+        if (flatW) {
+            const float r = t.invW.c == 1.0f ? 1.0f : 1.0f / t.invW.c;  // 1/1 is exactly 1
+            unitW = r == 1.0f;
+            flatR = _mm_set1_ps(r);
+        }
     }
 };
 
