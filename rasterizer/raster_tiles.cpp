@@ -163,12 +163,13 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
             const unsigned rowMask = (qy >= box.y0 ? 0x3u : 0u) | (qy + 1 <= box.y1 ? 0xCu : 0u);
             bool rowStarted = false;
             for (int qx = qx0; qx <= box.x1; qx += 2) {
+                // All three E ≥ 0 ⇔ the OR of the three has its sign bit clear.
                 unsigned coverage = 0;
                 for (int i = 0; i < 4; ++i) {
-                    bool in = true;
+                    int64_t any = 0;
                     for (int e = 0; e < 3; ++e)
-                        in &= rowE[e] + ((i & 1) ? stepX[e] : 0) + ((i >> 1) ? stepY[e] : 0) >= 0;
-                    coverage |= unsigned(in) << i;
+                        any |= rowE[e] + ((i & 1) ? stepX[e] : 0) + ((i >> 1) ? stepY[e] : 0);
+                    coverage |= unsigned(any >= 0) << i;
                 }
                 const unsigned colMask = (qx >= box.x0 ? 0x5u : 0u) | (qx + 1 <= box.x1 ? 0xAu : 0u);
                 coverage &= rowMask & colMask;
