@@ -113,6 +113,15 @@ Accel::Accel(const Scene& scene) : scene_(scene) {
         WorldMesh& w = meshes_[oi];
         w.vertices.resize(m.positions.size());
         for (size_t i = 0; i < m.positions.size(); ++i) w.vertices[i] = {m.normals[i], m.uvs[i]};
+        // Unit face normals once here rather than a square root and a division per hit;
+        // the same winding as Embree's Ng, (v1 − v0) × (v2 − v0).
+        w.faceNormals.resize(m.triangleCount());
+        for (size_t t = 0; t < m.triangleCount(); ++t) {
+            const glm::vec3& a = m.positions[m.indices[3 * t]];
+            glm::vec3 n = glm::cross(m.positions[m.indices[3 * t + 1]] - a, m.positions[m.indices[3 * t + 2]] - a);
+            float len = glm::length(n);
+            w.faceNormals[t] = len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
+        }
         w.indices = std::move(m.indices);
         for (const MeshPart& p : m.parts) w.partStarts.push_back(p.firstTriangle);
         w.material = &scene.materials[o.material];
@@ -247,14 +256,13 @@ SurfacePoint Accel::surface(const Ray& ray, const Hit& hit) const {
     const uint32_t* tri = &w.indices[size_t(hit.triangle) * 3];
     const float b0 = 1.0f - hit.u - hit.v;
     s.p = ray.origin + hit.t * ray.dir;
-    // One division per normal, then multiplies: divss dominated this function's profile.
-    float lenNg = glm::length(hit.ng);
-    s.ng = lenNg > 0.0f ? hit.ng * (1.0f / lenNg) : glm::vec3(0, 1, 0);
+    s.ng = w.faceNormals[hit.triangle];
     const VertexAttributes& a0 = w.vertices[tri[0]];
     const VertexAttributes& a1 = w.vertices[tri[1]];
     const VertexAttributes& a2 = w.vertices[tri[2]];
     glm::vec3 ns = b0 * a0.normal + hit.u * a1.normal + hit.v * a2.normal;
     float lenNs = glm::length(ns);
+    // One division, then multiplies: divss dominated this function's profile.
     s.ns = lenNs > 0.0f ? ns * (1.0f / lenNs) : s.ng;
     // Interpolated normals of a badly wound or inconsistent mesh may face the other way;
     // shading then follows the geometry.

@@ -85,6 +85,7 @@ class Accel {
     struct WorldMesh {
         std::vector<VertexAttributes> vertices;
         std::vector<uint32_t> indices;
+        std::vector<glm::vec3> faceNormals;  // unit geometric normal per triangle, world space
         std::vector<uint32_t> partStarts;  // first triangle of each part (few, stays cached)
         const Material* material = nullptr;
     };
