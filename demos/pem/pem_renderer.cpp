@@ -54,6 +54,9 @@ tex::SamplerState PemRenderer::fresnelSampler() {
 PemRenderer::PemRenderer(raster::Device& device, const PemScene& scene)
     : device_(device), scene_(scene) {
     memory_ = std::make_shared<tex::TextureMemory>(device.profile());
+    // Upload bytes per frame show in the device's counters (texture download was the
+    // paper viewer's bottleneck, 001 §6).
+    device.textureUnits().setTextureMemory(memory_);
     const ray::Material& m =
         scene.scene.materials.at(scene.scene.objects.at(size_t(scene.object)).material);
     fresnel_ = makeFresnelTexture(*memory_, m.fresnel == ray::MirrorFresnel::Schlick
@@ -114,7 +117,9 @@ FrameTiming PemRenderer::render(const ray::Camera& camera, EmMode mode, const Pe
     setCameraTransforms(camera);
     device_.setPassObserver({});
     raster::PipelineState st;
-    st.cull = raster::CullMode::None;  // the teapot is open under its lid: two-sided
+    // Back faces culled, as a Direct3D 7 application would: the mesh winds counter-
+    // clockwise seen from outside, which is clockwise in window space (y down).
+    st.cull = raster::CullMode::CW;
     st.depthTest = 1;
     st.depthWrite = 1;
     st.depthFunc = CompareFunc::LessEqual;

@@ -65,7 +65,7 @@ void renderLayer(raster::Device& device, PemRenderer& renderer, const ray::Camer
     tex::TextureUnits& tu = device.textureUnits();
     for (int s = 0; s < device.profile().maxTextureStages; ++s) tu.setStage(s, {});
     raster::PipelineState st;
-    st.cull = raster::CullMode::None;
+    st.cull = raster::CullMode::CW;
     st.colorWriteMask = 0;
     st.depthFunc = raster::CompareFunc::LessEqual;
     device.setState(st);

@@ -534,6 +534,8 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
        << kView + 1 << ". Above: the same angle, " << num(0.25 * path.radius, 2)
        << " units higher. Quick quality spaces samples wider than the paper's 1° so that "
           "'between' is far enough from the samples to matter.\n"
+       << "- **Culling.** Back faces are culled (the teapot's front faces are clockwise in "
+          "window space); through the small gap under the lid the background shows.\n"
        << "- **PSNR mask.** Pixels whose every ray-traced sample hits the teapot and that the "
           "rasterizer covers; the background room is not part of the comparison.\n";
     md.close();
