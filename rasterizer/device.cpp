@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <thread>
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -89,8 +90,9 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         for (size_t i = b; i < e; ++i)
             processed[i] = processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
     };
+    auto processedAt = [&](uint32_t i) -> const ProcessedVertex& { return processed[i]; };
     auto setupRange = [&](uint32_t b, uint32_t e, std::vector<SetupTriangle>& out,
-                          std::vector<Plane>& texPool, GeometryCounters& gc) {
+                          std::vector<Plane>& texPool, GeometryCounters& gc, auto&& fetch) {
         out.reserve(out.size() + (e - b));
         for (uint32_t i = b; i < e; ++i) {
             auto tv = triangleVertices(primitive, i);
@@ -98,8 +100,10 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             // The provoking vertex's bytes matter only for flat shading.
             const Rgba8 flatD = dc.gouraud ? Rgba8{} : vertices[a].diffuse;
             const Rgba8 flatS = dc.gouraud ? Rgba8{} : vertices[a].specular;
-            clipAndSetup(dc, processed[a], processed[bb], processed[c], flatD, flatS, out,
-                         texPool, gc);
+            const ProcessedVertex& pa = fetch(a);
+            const ProcessedVertex& pb = fetch(bb);
+            const ProcessedVertex& pc = fetch(c);
+            clipAndSetup(dc, pa, pb, pc, flatD, flatS, out, texPool, gc);
         }
     };
 
@@ -109,7 +113,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         processRange(0, vertices.size());
         std::vector<SetupTriangle> tris;
         std::vector<Plane> texPool;
-        setupRange(0, triangles, tris, texPool, gc);
+        setupRange(0, triangles, tris, texPool, gc, processedAt);
         rasterizeReference(dc, tris, texPool, rc);
     } else {
         // Fast path: vertices and triangle chunks in parallel (each writes only its own
@@ -131,21 +135,42 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             for (uint32_t b = 0; b < triangles; b += kChunk) {
                 ch.tris.clear();
                 ch.texPlanes.clear();
-                setupRange(b, std::min(triangles, b + kChunk), ch.tris, ch.texPlanes, gc);
+                setupRange(b, std::min(triangles, b + kChunk), ch.tris, ch.texPlanes, gc,
+                           processedAt);
                 rasterizeChunk(dc, ch, rc);
             }
-        } else arena->execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, vertices.size(), 4096),
-                              [&](const tbb::blocked_range<size_t>& r) {
-                                  processRange(r.begin(), r.end());
-                              });
+        } else {
+        // Vertices are transformed on first use by whichever chunk needs them (one state
+        // byte per vertex: 0 untouched, 1 being computed, 2 done), which saves a pass and
+        // a barrier; processVertex is a pure function, so who computes it cannot matter.
+        if (vertexStateSize < vertices.size()) {
+            vertexState = std::make_unique<std::atomic<uint8_t>[]>(vertices.size());
+            vertexStateSize = vertices.size();
+        }
+        for (size_t i = 0; i < vertices.size(); ++i)
+            vertexState[i].store(0, std::memory_order_relaxed);
+        auto lazyAt = [&](uint32_t i) -> const ProcessedVertex& {
+            std::atomic<uint8_t>& st = vertexState[i];
+            if (st.load(std::memory_order_acquire) != 2) {
+                uint8_t expected = 0;
+                if (st.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) {
+                    processed[i] =
+                        processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
+                    st.store(2, std::memory_order_release);
+                } else {
+                    while (st.load(std::memory_order_acquire) != 2) std::this_thread::yield();
+                }
+            }
+            return processed[i];
+        };
+        arena->execute([&] {
             tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
                 TriangleChunk& ch = chunks[c];
                 ch.tris.clear();
                 ch.texPlanes.clear();
                 GeometryCounters local;  // published once: chunks share cache lines
                 setupRange(c * kChunk, std::min(triangles, (c + 1) * kChunk), ch.tris, ch.texPlanes,
-                           local);
+                           local, lazyAt);
                 ch.geometry = local;
                 binChunk(ch, tilesX, tilesY);
             });
@@ -154,6 +179,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
                               tileCounters[size_t(tile)]);
             });
         });
+        }
         if (multi) {
             for (const TriangleChunk& ch : chunks) gc.add(ch.geometry);
             for (const RasterCounters& t : tileCounters) rc.add(t);
