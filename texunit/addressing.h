@@ -55,6 +55,14 @@ inline int32_t addressTexel(int64_t i, int n, AddressMode m) {
     return 0;
 }
 
+// A float LOD parameter (bias, MIN_LOD, MAX_LOD) in kLodFracBits fixed point: clamped to
+// ±4096, rounded half up; NaN counts as 0 (biasAndClampLambda and the compiled samplers).
+inline int32_t lodFixedFromFloat(float v) {
+    if (!(v == v)) return 0;
+    v = std::clamp(v, -4096.0f, 4096.0f);
+    return floorToInt(v * float(kLodOne) + 0.5f);
+}
+
 // One axis of a filter footprint: 1 tap (nearest, weight 1) or 2 taps (linear, weights
 // out of 2^kSubTexelBits).
 struct AxisFootprint {

@@ -14,11 +14,7 @@ namespace {
 // any int32 overflow after bias.
 constexpr int32_t kLambdaZero = -(1 << 20);
 
-int32_t fixedFromFloat(float v) {
-    if (!(v == v)) return 0;
-    v = std::clamp(v, -4096.0f, 4096.0f);
-    return detail::floorToInt(v * float(kLodOne) + 0.5f);
-}
+int32_t fixedFromFloat(float v) { return detail::lodFixedFromFloat(v); }
 }  // namespace
 
 int32_t log2Fixed(float x) {

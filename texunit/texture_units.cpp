@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "cube_select.h"
 #include "fetch_counter.h"
+#include "filter_quad.h"
 #include "stage_arith.h"
 #include "texunit/cube_mapping.h"
 
@@ -46,7 +47,7 @@ bool opReads(TextureOp op, int which) {  // which: 1, 2 or 0 (Lerp weight)
 }
 }  // namespace
 
-TextureUnits::TextureUnits() : fetches_(std::make_shared<detail::FetchCounter>()) {}
+TextureUnits::TextureUnits() : fetches_(std::make_shared<detail::FetchCounter>()) { refresh(); }
 
 void TextureUnits::setStage(int i, const StageState& s) {
     checkStage(i);
@@ -82,6 +83,7 @@ const std::shared_ptr<const Texture>& TextureUnits::texture(int i) const {
 void TextureUnits::setSampler(int i, const SamplerState& s) {
     checkStage(i);
     units_[size_t(i)].sampler = s;
+    refresh();
 }
 const SamplerState& TextureUnits::sampler(int i) const {
     checkStage(i);
@@ -90,11 +92,13 @@ const SamplerState& TextureUnits::sampler(int i) const {
 void TextureUnits::setColorTable(int i, std::shared_ptr<const ColorTable> t) {
     checkStage(i);
     units_[size_t(i)].colorTable = std::move(t);
+    refresh();
 }
 void TextureUnits::setTextureFactor(Rgba8 f) { tfactor_ = f; }
 void TextureUnits::setTexGen(int set, const TexGenState& g) {
     checkSet(set);
     texGen_[size_t(set)] = g;
+    refresh();
 }
 const TexGenState& TextureUnits::texGen(int set) const {
     checkSet(set);
@@ -141,10 +145,19 @@ bool TextureUnits::readsTexture(int i) const {
 }
 
 void TextureUnits::refresh() {
+    static_assert(kMaxStages <= int(std::tuple_size_v<decltype(detail::CompiledStages::stage)>));
     active_ = activeStages();
     sampling_ = 0;
-    for (int i = 0; i < active_; ++i)
-        if (readsTexture(i)) sampling_ |= 1u << i;
+    auto compiled = std::make_shared<detail::CompiledStages>();
+    for (int i = 0; i < active_; ++i) {
+        if (!readsTexture(i)) continue;
+        sampling_ |= 1u << i;
+        const Unit& u = units_[size_t(i)];
+        compiled->stage[size_t(i)] =
+            detail::compileQuadSampler(*u.texture, u.sampler, texGen_[u.stage.texCoordIndex].projected,
+                                       u.colorTable != nullptr);
+    }
+    compiled_ = std::move(compiled);
 }
 
 bool TextureUnits::passThrough() const { return active_ == 0; }
@@ -358,10 +371,17 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
     std::array<Rgba8, 4> current = quad.diffuse;
     std::array<Rgba8, 4> premod{};
     bool havePremod = false;
+    uint64_t fetched = 0;  // the compiled samplers' fetches, added once per quad
     for (int i = 0; i < n; ++i) {
         const StageState& st = units_[size_t(i)].stage;
         std::array<Rgba8, 4> texel{kWhite, kWhite, kWhite, kWhite};
-        if (sampling_ & (1u << i)) texel = sampleStage(i, quad, path);
+        if (sampling_ & (1u << i)) {
+            const detail::QuadSampler& qs = compiled_->stage[size_t(i)];
+            if (path == Path::Fast && qs.fn)
+                fetched += qs.fn(qs, quad.texCoord[st.texCoordIndex], texel);
+            else
+                texel = sampleStage(i, quad, path);
+        }
         if (havePremod) {
             // D3DTOP_PREMODULATE of the previous stage: its texture multiplies this one's.
             for (int p = 0; p < 4; ++p) {
@@ -387,6 +407,7 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
             detail::evaluateStageQuad(st, in, current);
         }
     }
+    if (fetched) fetches_->add(fetched);
     out = current;
 }
 

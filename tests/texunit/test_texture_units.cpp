@@ -3,6 +3,7 @@
 // states), and the instrumented tap query the PEM demo uses.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 
 #include "core/error.h"
@@ -266,6 +267,92 @@ TEST(TextureUnits, ShadeQuadFastMatchesReferenceUnderRandomStates) {
         }
     }
     EXPECT_EQ(quads, 30000);
+}
+
+// The compiled per-quad samplers (texunit/filter_quad.cpp) against the reference, state by
+// state: every target they take (1D, 2D incl. non-square, cube), every filter and mip mode,
+// CLAMP_TO_EDGE and power-of-two WRAP on each axis, projected and not, biases and LOD
+// clamps that reach magnification, both blended levels and the last level; plus the states
+// that must fall back to the generic path (MIRROR, BORDER, CLAMP, WRAP on a
+// non-power-of-two extent, colour tables). Bytes and texel-fetch counts must agree.
+TEST(TextureUnits, CompiledSamplersMatchReferenceOnEveryKernelAndTheFallback) {
+    const Profile& g8 = profile(ProfileId::GeForce8800);  // allows non-power-of-two sizes
+    auto mem = std::make_shared<TextureMemory>(g8);
+    auto texel = [](int l, int f, int x, int y, int, int) {
+        const uint32_t h = testing::hash32(uint32_t(((l * 7 + f) * 131 + x) * 977 + y));
+        return Rgba8{uint8_t(h), uint8_t(h >> 8), uint8_t(h >> 16), uint8_t(h >> 24)};
+    };
+    const std::shared_ptr<Texture> textures[] = {
+        makeRgba8(*mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 32, 8, 1, 1, 6}, texel),
+        makeRgba8(*mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 16, 16, 1, 1, 1}, texel),
+        makeRgba8(*mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 12, 20, 1, 1, 5}, texel),
+        makeRgba8(*mem, {TextureTarget::Texture1D, TexelFormat::RGBA8, 64, 1, 1, 1, 7}, texel),
+        makeRgba8(*mem, {TextureTarget::Texture1D, TexelFormat::RGBA8, 24, 1, 1, 1, 1}, texel),
+        makeRgba8(*mem, {TextureTarget::CubeMap, TexelFormat::RGBA8, 16, 16, 1, 1, 5}, texel),
+        makeRgba8(*mem, {TextureTarget::CubeMap, TexelFormat::RGBA8, 8, 8, 1, 1, 1}, texel),
+    };
+    auto table = std::make_shared<ColorTable>();
+    table->format = BaseFormat::Rgba;
+    for (int i = 0; i < 256; ++i) table->entries.push_back(texel(9, 9, i, 3, 0, 0));
+    const AddressMode modes[] = {AddressMode::ClampToEdge, AddressMode::Wrap, AddressMode::ClampToEdge,
+                                 AddressMode::Wrap, AddressMode::Mirror, AddressMode::Border,
+                                 AddressMode::Clamp};
+    Rng rng(2024);
+    int kernelStates = 0, fallbackStates = 0;
+    for (int stateI = 0; stateI < 1500; ++stateI) {
+        TextureUnits tu;
+        const auto& tex = textures[rng.below(7)];
+        SamplerState s;
+        for (auto& a : s.address) a = modes[rng.below(rng.below(3) ? 4 : 7)];
+        s.magFilter = FilterMode(rng.below(2));
+        s.minFilter = FilterMode(rng.below(2));
+        s.mipFilter = MipMode(rng.below(3));
+        s.lodBias = rng.below(3) ? 0.0f : rng.uniform(-3, 3);
+        if (rng.below(4) == 0) s.minLod = rng.uniform(-1, 2);
+        if (rng.below(4) == 0) s.maxLod = rng.uniform(0, 4);
+        if (rng.below(4) == 0) s.baseLevel = int(rng.below(3));
+        if (rng.below(4) == 0) s.maxLevel = int(rng.below(5));
+        s.borderColor = {uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next())};
+        const bool withTable = rng.below(10) == 0;
+        TexGenState g;
+        g.projected = rng.below(2) == 0;
+        tu.setTexGen(0, g);
+        tu.setTexture(0, tex);
+        tu.setSampler(0, s);
+        if (withTable) tu.setColorTable(0, table);
+        // SELECTARG1 texture: the sample itself reaches the output.
+        tu.setStage(0, op(TextureOp::SelectArg1, arg::Texture, arg::Current, TextureOp::SelectArg1));
+        const bool cube = tex->desc().target == TextureTarget::CubeMap;
+        auto fits = [&](int d, int n) {
+            return s.address[size_t(d)] == AddressMode::ClampToEdge ||
+                   (s.address[size_t(d)] == AddressMode::Wrap && (n & (n - 1)) == 0);
+        };
+        const bool kernel = !withTable && (cube || (fits(0, tex->desc().width) &&
+                                                    (tex->dims() == 1 || fits(1, tex->desc().height))));
+        (kernel ? kernelStates : fallbackStates) += 1;
+        uint64_t refFetches = 0, fastFetches = 0;
+        for (int k = 0; k < 60; ++k) {
+            FragmentQuad q;
+            // Footprints from deep magnification to far minification (and a few zero).
+            const float scale = rng.below(8) == 0 ? 0.0f : std::exp2(rng.uniform(-9, 3));
+            glm::vec4 base(rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(0.3f, 2));
+            glm::vec4 dx(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-0.1f, 0.1f));
+            glm::vec4 dy(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-0.1f, 0.1f));
+            for (int p = 0; p < 4; ++p)
+                q.texCoord[0][size_t(p)] = base + scale * (float(p & 1) * dx + float(p >> 1) * dy);
+            std::array<Rgba8, 4> ref, fast;
+            tu.resetCounters();
+            tu.shadeQuad(q, ref, Path::Reference);
+            refFetches += tu.counters().texelFetches;
+            tu.resetCounters();
+            tu.shadeQuad(q, fast, Path::Fast);
+            fastFetches += tu.counters().texelFetches;
+            ASSERT_EQ(ref, fast) << "state " << stateI << " quad " << k << " (seed 2024)";
+        }
+        ASSERT_EQ(refFetches, fastFetches) << "state " << stateI;
+    }
+    EXPECT_GT(kernelStates, 800);
+    EXPECT_GT(fallbackStates, 150);
 }
 
 TEST(TextureUnits, TapQueryReproducesTheSampleAndItsWeightsSumToOne) {

@@ -33,7 +33,8 @@
 namespace rg::tex {
 
 namespace detail {
-struct FetchCounter;  // texunit/fetch_counter.h
+struct FetchCounter;    // texunit/fetch_counter.h
+struct CompiledStages;  // texunit/filter_quad.h
 }
 
 constexpr int kMaxTexCoordSets = 8;
@@ -129,8 +130,9 @@ class TextureUnits {
     };
     int activeStages() const;  // stages before the first colorOp == Disable
     bool readsTexture(int stage) const;
-    // Re-derives active_ and sampling_ after setStage/setTexture, so the per-quad path
-    // reads two words instead of re-deriving them from the stage states.
+    // Re-derives active_, sampling_ and the compiled per-quad samplers after every setter
+    // that changes what a stage samples, so the per-quad path reads them instead of
+    // re-deriving them from the stage states.
     void refresh();
     int active_ = 0;         // activeStages()
     uint32_t sampling_ = 0;  // bit i: readsTexture(i), for i < active_
@@ -144,6 +146,8 @@ class TextureUnits {
     std::shared_ptr<TextureMemory> memory_;
     // Shared by copies; per-thread shards, added once per quad and stage / per row.
     std::shared_ptr<detail::FetchCounter> fetches_;
+    // Immutable once built; copies share it (it points at textures units_ keeps alive).
+    std::shared_ptr<const detail::CompiledStages> compiled_;
 };
 
 }  // namespace rg::tex

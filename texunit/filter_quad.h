@@ -1,0 +1,60 @@
+// Internal: the per-quad sampling kernels of the fast path, compiled once per state
+// change (TextureUnits::refresh) instead of re-derived per quad (SwiftShader's compiled
+// pixel routines, in miniature: a function pointer chosen from the hashed-down stage state).
+//
+// A kernel does for one stage and one 2×2 quad what TextureUnits::sampleStage does on the
+// fast path — projection or cube-face selection, one λ, the level choice, filtering — for
+// the states that dominate real frames: 8-bit 1D, 2D and cube textures, no colour table,
+// and per used axis CLAMP_TO_EDGE or WRAP on power-of-two extents (cube faces always clamp
+// to edge). Every other state keeps the generic path (sampleStage). The arithmetic is the
+// reference's (docs/hardware.md, "Level of detail", "Filtering"): same float operations
+// in the same order for the coordinates and λ, and the integer weighted sum evaluated
+// exactly (filter_quad.cpp explains the SSE2 form); TextureUnits tests compare the paths.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <glm/vec4.hpp>
+
+#include "core/color.h"
+#include "texunit/sampler.h"
+#include "texunit/texture.h"
+
+namespace rg::tex::detail {
+
+struct QuadSampler;
+// Samples one stage for the four pixels of a quad from its coordinate set `in` (s, t, r, q
+// per pixel, before any divide); returns the texel fetches the reference would count.
+using QuadSampleFn = uint64_t (*)(const QuadSampler&, const std::array<glm::vec4, 4>& in,
+                                  std::array<Rgba8, 4>& out);
+
+// One mipmap level as the kernels address it: face f starts at data + f·faceStride.
+struct LevelView {
+    const Rgba8* data = nullptr;
+    uint32_t faceStride = 0;
+    int32_t width = 1, height = 1;
+};
+
+struct QuadSampler {
+    static constexpr int kMaxLevels = 16;
+    QuadSampleFn fn = nullptr;  // null: the generic path
+    const Texture* texture = nullptr;
+    SamplerState sampler{};
+    bool projected = false;  // divide by q (1D/2D)
+    int32_t lodBias = 0, lodMin = 0, lodMax = 0;  // fixed point: λ' = clamp(λ + bias, min, max)
+    std::array<int, 4> baseSize{1, 1, 1, 1};      // level-base extent (λ is measured in it)
+    std::array<LevelView, kMaxLevels> level{};
+};
+
+// The compiled samplers of all stages (TextureUnits holds one, rebuilt by its setters).
+struct CompiledStages {
+    std::array<QuadSampler, 16> stage{};
+};
+
+// Chooses the kernel for a stage's texture and sampler, or leaves fn null when the state
+// needs the generic path (float formats, 3D/4D, colour tables, other address modes).
+QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool projected,
+                               bool hasColorTable);
+
+}  // namespace rg::tex::detail
