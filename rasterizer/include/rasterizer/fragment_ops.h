@@ -79,8 +79,8 @@ constexpr uint32_t blendFactorValue(BlendFactor f, int c, Rgba8 s, Rgba8 d) {
 }
 
 // D3DBLEND_BOTHSRCALPHA / BOTHINVSRCALPHA set the destination factor too, overriding
-// D3DRS_DESTBLEND (Direct3D 7 reference: "source blend factor is (As,As,As,As), and
-// destination blend factor is (1–As,…)"). Every other source factor leaves it alone.
+// D3DRS_DESTBLEND: the Direct3D 7 documentation describes them as SRCALPHA/INVSRCALPHA
+// (and the inverse pair) in one setting. Every other source factor leaves it alone.
 constexpr BlendFactor effectiveDestFactor(BlendFactor src, BlendFactor dst) {
     if (src == BlendFactor::BothSrcAlpha) return BlendFactor::InvSrcAlpha;
     if (src == BlendFactor::BothInvSrcAlpha) return BlendFactor::SrcAlpha;
