@@ -3,8 +3,11 @@
 // applications (docs/hardware.md, "Texture stages").
 #pragma once
 
+#include <emmintrin.h>
+
 #include <algorithm>
 #include <array>
+#include <cstring>
 
 #include "core/arith8.h"
 #include "texunit/stages.h"
@@ -212,5 +215,156 @@ inline void evaluateStageQuad(const StageState& st, const std::array<StageInputs
     }
 }
 #undef RG_TEX_CHANNEL_OPS
+
+// ---- the fast path in SSE2: one stage on a whole quad, 16 bytes at a time --------------
+// A register holds the four pixels' RGBA (pixel p in bytes 4p..4p+3, as std::array<Rgba8,
+// 4> lies in memory). Every operation is the scalar one applied per byte: mulDiv255 and
+// lerp255 on 16-bit lanes (a·b + 128 ≤ 65153 and t + (t >> 8) ≤ 65407 stay below 2^16),
+// addSat/subSat as the saturating byte adds, clamp255 as packus, the 2×/4× scales as
+// saturating doublings (min(2·min(2v, 255), 255) = min(4v, 255)). The alpha op runs on all
+// four bytes and only its alpha byte is kept, which is the scalar alpha op on .a.
+// Identical bytes: TextureUnits.ShadeQuadFastMatchesReferenceUnderRandomStates.
+namespace quad {
+
+struct Regs {
+    __m128i diffuse, specular, current, texture, tfactor;
+};
+
+inline __m128i load(const std::array<Rgba8, 4>& v) {
+    return _mm_loadu_si128(reinterpret_cast<const __m128i*>(v.data()));
+}
+inline void store(std::array<Rgba8, 4>& v, __m128i x) {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(v.data()), x);
+}
+inline __m128i splat(Rgba8 c) {
+    uint32_t x = uint32_t(c.r) | uint32_t(c.g) << 8 | uint32_t(c.b) << 16 | uint32_t(c.a) << 24;
+    return _mm_set1_epi32(int32_t(x));
+}
+inline __m128i ones() { return _mm_set1_epi32(-1); }
+inline __m128i alphaBroadcast(__m128i v) {
+    const __m128i a = _mm_srli_epi32(v, 24);
+    const __m128i a2 = _mm_or_si128(a, _mm_slli_epi32(a, 8));
+    return _mm_or_si128(a2, _mm_slli_epi32(a2, 16));
+}
+inline __m128i selectArg(uint8_t a, const Regs& in) {
+    __m128i v;
+    switch (a & arg::SourceMask) {
+        case arg::Diffuse: v = in.diffuse; break;
+        case arg::Current: v = in.current; break;
+        case arg::Texture: v = in.texture; break;
+        case arg::TFactor: v = in.tfactor; break;
+        case arg::Specular: v = in.specular; break;
+        default: v = in.current; break;
+    }
+    if (a & arg::AlphaReplicate) v = alphaBroadcast(v);
+    if (a & arg::Complement) v = _mm_xor_si128(v, ones());
+    return v;
+}
+// round(a·b/255) per byte (Blinn), as arith8::mulDiv255.
+inline __m128i mulDiv255Half(__m128i a, __m128i b) {
+    const __m128i t = _mm_add_epi16(_mm_mullo_epi16(a, b), _mm_set1_epi16(128));
+    return _mm_srli_epi16(_mm_add_epi16(t, _mm_srli_epi16(t, 8)), 8);
+}
+inline __m128i mulDiv255(__m128i a, __m128i b) {
+    const __m128i z = _mm_setzero_si128();
+    return _mm_packus_epi16(
+        mulDiv255Half(_mm_unpacklo_epi8(a, z), _mm_unpacklo_epi8(b, z)),
+        mulDiv255Half(_mm_unpackhi_epi8(a, z), _mm_unpackhi_epi8(b, z)));
+}
+// (a·w + b·(255 − w) + 128) then Blinn's divide, per byte, as lerp255.
+inline __m128i lerp255Half(__m128i a, __m128i b, __m128i w) {
+    const __m128i iw = _mm_sub_epi16(_mm_set1_epi16(255), w);
+    const __m128i t = _mm_add_epi16(_mm_add_epi16(_mm_mullo_epi16(a, w), _mm_mullo_epi16(b, iw)),
+                                    _mm_set1_epi16(128));
+    return _mm_srli_epi16(_mm_add_epi16(t, _mm_srli_epi16(t, 8)), 8);
+}
+inline __m128i lerp255(__m128i a, __m128i b, __m128i w) {
+    const __m128i z = _mm_setzero_si128();
+    return _mm_packus_epi16(
+        lerp255Half(_mm_unpacklo_epi8(a, z), _mm_unpacklo_epi8(b, z), _mm_unpacklo_epi8(w, z)),
+        lerp255Half(_mm_unpackhi_epi8(a, z), _mm_unpackhi_epi8(b, z), _mm_unpackhi_epi8(w, z)));
+}
+// clamp255(k·(a1 + a2 − 128)) per byte, k = 1 or 2 (ADDSIGNED, ADDSIGNED2X).
+template <int kShift>
+inline __m128i addSigned(__m128i a, __m128i b) {
+    const __m128i z = _mm_setzero_si128(), k = _mm_set1_epi16(128);
+    auto half = [&](__m128i x, __m128i y) {
+        return _mm_slli_epi16(_mm_sub_epi16(_mm_add_epi16(x, y), k), kShift);
+    };
+    return _mm_packus_epi16(half(_mm_unpacklo_epi8(a, z), _mm_unpacklo_epi8(b, z)),
+                            half(_mm_unpackhi_epi8(a, z), _mm_unpackhi_epi8(b, z)));
+}
+inline __m128i scale(__m128i v, uint8_t shift) {
+    for (uint8_t i = 0; i < shift; ++i) v = _mm_adds_epu8(v, v);
+    return v;
+}
+inline __m128i blendAlphaFor(TextureOp op, const Regs& in) {
+    switch (op) {
+        case TextureOp::BlendDiffuseAlpha: return alphaBroadcast(in.diffuse);
+        case TextureOp::BlendTextureAlpha:
+        case TextureOp::BlendTextureAlphaPM: return alphaBroadcast(in.texture);
+        case TextureOp::BlendFactorAlpha: return alphaBroadcast(in.tfactor);
+        case TextureOp::BlendCurrentAlpha: return alphaBroadcast(in.current);
+        default: return _mm_setzero_si128();
+    }
+}
+// combineChannel per byte for the channel ops (isChannelOp).
+inline __m128i combine(TextureOp op, __m128i a1, __m128i a2, __m128i a0, const Regs& in) {
+    switch (op) {
+        case TextureOp::SelectArg1: return a1;
+        case TextureOp::SelectArg2: return a2;
+        case TextureOp::Modulate: return mulDiv255(a1, a2);
+        case TextureOp::Modulate2x: {
+            const __m128i m = mulDiv255(a1, a2);
+            return _mm_adds_epu8(m, m);
+        }
+        case TextureOp::Modulate4x: {
+            const __m128i m = mulDiv255(a1, a2), m2 = _mm_adds_epu8(m, m);
+            return _mm_adds_epu8(m2, m2);
+        }
+        case TextureOp::Add: return _mm_adds_epu8(a1, a2);
+        case TextureOp::AddSigned: return addSigned<0>(a1, a2);
+        case TextureOp::AddSigned2x: return addSigned<1>(a1, a2);
+        case TextureOp::Subtract: return _mm_subs_epu8(a1, a2);
+        case TextureOp::AddSmooth: return _mm_add_epi8(a1, mulDiv255(a2, _mm_xor_si128(a1, ones())));
+        case TextureOp::BlendDiffuseAlpha:
+        case TextureOp::BlendTextureAlpha:
+        case TextureOp::BlendFactorAlpha:
+        case TextureOp::BlendCurrentAlpha: return lerp255(a1, a2, blendAlphaFor(op, in));
+        case TextureOp::BlendTextureAlphaPM:
+            return _mm_adds_epu8(a1, mulDiv255(a2, _mm_xor_si128(blendAlphaFor(op, in), ones())));
+        case TextureOp::Lerp: return lerp255(a1, a2, a0);
+        default: return a1;
+    }
+}
+inline bool isChannelOp(TextureOp op) {
+    return (op >= TextureOp::SelectArg1 && op <= TextureOp::BlendCurrentAlpha) || op == TextureOp::Lerp;
+}
+// The states evaluate() takes: a channel colour op and a channel (or DISABLE/PREMODULATE)
+// alpha op; the rest (DOTPRODUCT3, the MODULATE*ADD* ops) go through evaluateStageQuad.
+inline bool supported(const StageState& st) {
+    return isChannelOp(st.colorOp) &&
+           (isChannelOp(st.alphaOp) || st.alphaOp == TextureOp::Disable ||
+            st.alphaOp == TextureOp::PreModulate);
+}
+// evaluateStageQuad for a supported() state: the new CURRENT of the four pixels.
+inline __m128i evaluate(const StageState& st, const Regs& in) {
+    const __m128i c0 = st.colorOp == TextureOp::Lerp ? selectArg(st.colorArg0, in) : _mm_setzero_si128();
+    const __m128i color = scale(combine(st.colorOp, selectArg(st.colorArg1, in),
+                                        selectArg(st.colorArg2, in), c0, in),
+                                st.colorScaleShift);
+    __m128i alpha;
+    if (st.alphaOp == TextureOp::Disable || st.alphaOp == TextureOp::PreModulate) {
+        alpha = in.current;  // CURRENT's alpha passes, and is still scaled (evaluateStage)
+    } else {
+        const __m128i a0 = st.alphaOp == TextureOp::Lerp ? selectArg(st.alphaArg0, in) : _mm_setzero_si128();
+        alpha = combine(st.alphaOp, selectArg(st.alphaArg1, in), selectArg(st.alphaArg2, in), a0, in);
+    }
+    alpha = scale(alpha, st.alphaScaleShift);
+    const __m128i alphaMask = _mm_set1_epi32(int32_t(0xff000000u));
+    return _mm_or_si128(_mm_andnot_si128(alphaMask, color), _mm_and_si128(alphaMask, alpha));
+}
+
+}  // namespace quad
 
 }  // namespace rg::tex::detail

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "core/error.h"
 #include "tex_test_util.h"
@@ -224,9 +225,11 @@ TEST(TextureUnits, ShadeQuadFastMatchesReferenceUnderRandomStates) {
     Rng rng(77);
     const std::shared_ptr<Texture> textures[] = {fx.tex2d, fx.cube, fx.fresnel, nullptr};
     int quads = 0;
-    for (int stateI = 0; stateI < 300; ++stateI) {
+    // Many states, few quads each: every op and argument modifier reaches the SSE2 cascade
+    // (stage_arith.h, quad::) and its per-pixel fallback, up to three stages deep.
+    for (int stateI = 0; stateI < 1500; ++stateI) {
         TextureUnits tu;
-        const int n = 1 + int(rng.below(2));
+        const int n = 1 + int(rng.below(3));
         for (int i = 0; i < n; ++i) {
             tu.setStage(i, randomStage(rng, 3));
             tu.setTexture(i, textures[rng.below(4)]);
@@ -242,7 +245,7 @@ TEST(TextureUnits, ShadeQuadFastMatchesReferenceUnderRandomStates) {
         }
         tu.setTextureFactor({uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()),
                              uint8_t(rng.next())});
-        for (int k = 0; k < 100; ++k) {
+        for (int k = 0; k < 20; ++k) {
             FragmentQuad q;
             const float scale = rng.uniform(0.001f, 0.3f);
             for (int set = 0; set < 3; ++set) {
@@ -262,7 +265,18 @@ TEST(TextureUnits, ShadeQuadFastMatchesReferenceUnderRandomStates) {
             std::array<Rgba8, 4> ref, fast;
             tu.shadeQuad(q, ref, Path::Reference);
             tu.shadeQuad(q, fast, Path::Fast);
-            ASSERT_EQ(ref, fast) << "state " << stateI << " quad " << k << " (seed 77)";
+            ASSERT_EQ(ref, fast) << "state " << stateI << " quad " << k << " (seed 77)" << [&] {
+                std::string d;
+                for (int i = 0; i < n; ++i) {
+                    const StageState& s = tu.stage(i);
+                    d += " | " + std::string(textureOpName(s.colorOp)) + "(" + std::to_string(s.colorArg1) + "," +
+                         std::to_string(s.colorArg2) + "," + std::to_string(s.colorArg0) + ")<<" +
+                         std::to_string(s.colorScaleShift) + " a:" + std::string(textureOpName(s.alphaOp)) + "(" +
+                         std::to_string(s.alphaArg1) + "," + std::to_string(s.alphaArg2) + "," +
+                         std::to_string(s.alphaArg0) + ")<<" + std::to_string(s.alphaScaleShift);
+                }
+                return d;
+            }();
             ++quads;
         }
     }
