@@ -12,6 +12,7 @@
 #include "core/profile.h"
 #include "raycore/raytrace_command.h"
 #include "reproductions.h"
+#include "view_command.h"
 #ifdef RETROGLASS_HAVE_BENCH
 #include "harness.h"
 #endif
@@ -171,6 +172,21 @@ int main(int argc, char** argv) {
     raytrace->add_option("--height", rt.height, "image height")->check(CLI::Range(1, 16384));
     raytrace->add_option("--out", rt.out, "output image (.png, .exr, .hdr)")->required();
 
+    rg::viewer::ViewOptions view;
+    auto* viewCmd = app.add_subcommand(
+        "view", "the interactive viewer of a demo (window with a control panel; or replay a "
+                "recording headless)");
+    viewCmd->add_option("demo", view.demo, "the demo: pem");
+    viewCmd->add_option("--profile", view.profile, "hardware profile (default: the paper's)");
+    viewCmd->add_option("--scene", view.scene, "a scene file (docs/scene-format.md)");
+    viewCmd->add_option("--record", view.record, "save the input stream with frame numbers");
+    viewCmd->add_option("--replay", view.replay, "play a recording (in the window, or --headless)");
+    viewCmd->add_flag("--headless", view.headless, "no window: render the replayed frames into --out");
+    viewCmd->add_option("--out", view.out, "folder for the headless frames (default out/view/replay)");
+    viewCmd->add_option("--shots", view.shots, "folder for the window's screenshots");
+    viewCmd->add_option("--frames", view.maxFrames, "quit after this many frames (0: when closed)");
+    viewCmd->footer(rg::viewer::bindingsHelp());
+
     std::vector<std::string> testArgs;
     auto* test = app.add_subcommand("test", "run the whole test suite through CTest");
     test->add_option("ctest-args", testArgs, "extra arguments for ctest (e.g. -R blend)");
@@ -189,6 +205,10 @@ int main(int argc, char** argv) {
         if (*profiles) return runProfiles();
         if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, g);
         if (*test) return runTests(testArgs, g);
+        if (*viewCmd) {
+            view.threads = g.threads;
+            return rg::viewer::runView(view);
+        }
         if (*raytrace) {
             rt.threads = g.threads;
             return rg::ray::runRaytraceCommand(rt);

@@ -1,0 +1,92 @@
+// The interface between a paper's demo and the viewer (`retroglass view DEMO`).
+//
+// A demo is a render function plus the values that steer it. The viewer owns the emulated
+// device, the camera and the input; it never knows which paper it shows. The same
+// `render()` runs in the window, in `--headless` replay and in the tests, so what the
+// window shows is what a replay writes, byte for byte.
+//
+//   viewer ──(params, camera)──▶ Demo::render(Device&, Camera) ──▶ Device passes ──▶ framebuffer
+//
+// Adding a paper: implement Demo in demos/<paper>/<paper>_demo.{h,cpp} and add one line to
+// demos/viewer/demo_registry.cpp. docs/viewer.md has the details.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "raycore/camera.h"
+
+namespace rg::raster {
+class Device;
+}
+
+namespace rg::viewer {
+
+// One named value the panel shows and the record file stores ("param NAME VALUE").
+struct Param {
+    enum class Kind { Bool, Int, Float, Enum };
+    std::string name;                  // identifier: lower_snake, no spaces
+    std::string label;                 // what the panel shows
+    std::string help;                  // tooltip and docs
+    Kind kind = Kind::Bool;
+    double value = 0;                  // Bool 0/1, Int and Enum an integer, Float as is
+    double min = 0, max = 1;           // Int and Float ranges
+    std::vector<std::string> choices;  // Enum: value indexes this list
+};
+
+// A camera the paper pre-rendered or otherwise singles out (PEM: its viewpoint samples).
+// The viewer jumps and steps through them.
+struct ViewpointSample {
+    std::string name;
+    ray::Camera camera;
+};
+
+// Where the orbit camera turns: the viewer orbits `target` at the start camera's distance.
+struct OrbitRig {
+    ray::Camera start;                 // the reset camera
+    float minDistance = 0.1f, maxDistance = 100.0f;
+};
+
+// Name/value lines the HUD prints under the device counters (e.g. the samples blended).
+using FrameNotes = std::vector<std::pair<std::string, std::string>>;
+
+struct DemoOptions {
+    std::filesystem::path outDir;      // out/<demo>: where its reproduction stores assets
+    std::string scene;                 // --scene FILE, empty for the paper's scene
+    int threads = 0;
+};
+
+class Demo {
+  public:
+    virtual ~Demo() = default;
+    virtual std::string name() const = 0;
+    virtual std::string title() const = 0;            // the paper
+    virtual std::string defaultProfile() const = 0;   // the paper's machine
+    virtual std::pair<int, int> frameSize() const = 0;
+    virtual OrbitRig rig() const = 0;
+    virtual std::vector<ViewpointSample> viewpointSamples() const = 0;
+    // The demo's parameters; the viewer edits `value` in place between frames.
+    virtual std::vector<Param>& params() = 0;
+    // What a frame does, pass by pass, in the paper's words (the inspector's legend).
+    virtual std::vector<std::string> passDescriptions() const = 0;
+    // Renders one frame into `device` (beginFrame … endFrame). Must depend only on the
+    // params, the camera, the device's profile and size: no clocks, no randomness.
+    virtual FrameNotes render(raster::Device& device, const ray::Camera& camera) = 0;
+};
+
+// The demos the viewer knows (demos/viewer/demo_registry.cpp).
+struct DemoEntry {
+    std::string name, title;
+    std::function<std::unique_ptr<Demo>(const DemoOptions&)> make;
+};
+const std::vector<DemoEntry>& demoRegistry();
+
+// Param helpers: lookup by name (throws rg::Error for an unknown name).
+Param& findParam(std::vector<Param>& params, const std::string& name);
+double paramValue(const std::vector<Param>& params, const std::string& name);
+
+}  // namespace rg::viewer
