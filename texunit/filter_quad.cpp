@@ -32,39 +32,61 @@ enum class Target : uint8_t { OneD, TwoD, Cube };
 // (addressTexel's mask branch).
 enum class Addr : uint8_t { Edge, Pow2 };
 
-template <Addr kA>
-inline int32_t address(int32_t i, int32_t n) {
-    if constexpr (kA == Addr::Edge) return std::clamp(i, 0, n - 1);
-    else return i & (n - 1);
-}
-
-// axisFootprint(c, n, m, Linear) for the two modes: i0, i1 and the weight α of i1.
-// |toSubTexel| ≤ 2^30, so the int32 arithmetic is the reference's int64 arithmetic.
-template <Addr kA>
-inline void linearAxis(float c, int32_t n, int32_t& i0, int32_t& i1, int32_t& frac) {
-    if (!(c == c)) c = 0.0f;
-    const int32_t u = int32_t(toSubTexel(c, n)) - (1 << (kSubTexelBits - 1));
-    const int32_t b = u >> kSubTexelBits;
-    frac = u & ((1 << kSubTexelBits) - 1);
-    i0 = address<kA>(b, n);
-    i1 = address<kA>(b + 1, n);
-}
+// ---- addressing, four pixels per register ------------------------------------------
+// The texel coordinates of the quad's four pixels on one level: toSubTexel, floorToInt and
+// addressTexel lane for lane (the same IEEE operations as the scalar code: mulps is mulss,
+// cvttps2dq is the int32 cast, min/max of a non-NaN value are std::clamp).
+struct Axis4 {
+    alignas(16) int32_t i0[4];
+    alignas(16) int32_t i1[4];
+    alignas(16) int32_t frac[4];
+};
 
 template <Addr kA>
-inline int32_t nearestAxis(float c, int32_t n) {
-    if (!(c == c)) c = 0.0f;
-    return address<kA>(int32_t(toSubTexel(c, n) >> kSubTexelBits), n);
+inline __m128i address4(__m128i i, int32_t n) {
+    if constexpr (kA == Addr::Edge) {
+        i = _mm_andnot_si128(_mm_srai_epi32(i, 31), i);  // max(i, 0)
+        const __m128i top = _mm_set1_epi32(n - 1);
+        const __m128i over = _mm_cmpgt_epi32(i, top);
+        return _mm_or_si128(_mm_andnot_si128(over, i), _mm_and_si128(over, top));
+    } else {
+        return _mm_and_si128(i, _mm_set1_epi32(n - 1));
+    }
 }
 
+// ⌊c·n·256⌋ per lane as toSubTexel, NaN coordinates counting as 0 (axisFootprint).
+inline __m128i subTexel4(__m128 c, int32_t n) {
+    c = _mm_and_ps(c, _mm_cmpord_ps(c, c));
+    __m128 u = _mm_mul_ps(c, _mm_set1_ps(float(n)));
+    u = _mm_and_ps(u, _mm_cmpord_ps(u, u));
+    u = _mm_min_ps(_mm_max_ps(u, _mm_set1_ps(-4194304.0f)), _mm_set1_ps(4194304.0f));
+    const __m128 v = _mm_mul_ps(u, _mm_set1_ps(float(1 << kSubTexelBits)));
+    const __m128i i = _mm_cvttps_epi32(v);
+    return _mm_add_epi32(i, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i), v)));
+}
+
+template <Addr kA>
+inline void linearAxis4(__m128 c, int32_t n, Axis4& out) {
+    const __m128i u = _mm_sub_epi32(subTexel4(c, n), _mm_set1_epi32(1 << (kSubTexelBits - 1)));
+    const __m128i b = _mm_srai_epi32(u, kSubTexelBits);
+    _mm_store_si128(reinterpret_cast<__m128i*>(out.frac),
+                    _mm_and_si128(u, _mm_set1_epi32((1 << kSubTexelBits) - 1)));
+    _mm_store_si128(reinterpret_cast<__m128i*>(out.i0), address4<kA>(b, n));
+    _mm_store_si128(reinterpret_cast<__m128i*>(out.i1),
+                    address4<kA>(_mm_add_epi32(b, _mm_set1_epi32(1)), n));
+}
+
+template <Addr kA>
+inline void nearestAxis4(__m128 c, int32_t n, int32_t out[4]) {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
+                     address4<kA>(_mm_srai_epi32(subTexel4(c, n), kSubTexelBits), n));
+}
+
+// ---- the weighted sums --------------------------------------------------------------
 inline __m128i load4(const Rgba8* p) {
     int32_t v;
     std::memcpy(&v, p, 4);
     return _mm_cvtsi32_si128(v);
-}
-inline Rgba8 store4(__m128i v) {  // int32 lanes in [0, 255] → Rgba8
-    const __m128i b = _mm_packus_epi16(_mm_packs_epi32(v, v), v);
-    const uint32_t x = uint32_t(_mm_cvtsi128_si32(b));
-    return {uint8_t(x), uint8_t(x >> 8), uint8_t(x >> 16), uint8_t(x >> 24)};
 }
 // (256 − w, w) in each pair of int16 lanes: the weights of the first and second tap.
 inline __m128i weightPair(int32_t w) {
@@ -95,21 +117,21 @@ inline __m128i bilinearBiased(const Rgba8* r0, const Rgba8* r1, int32_t x0, int3
     return _mm_madd_epi16(interleaveHalves(p), weightPair(fy));
 }
 
-// Rounded results (docs/hardware.md, "Filtering": ⌊(Σ + 2^(bits−1)) / 2^bits⌋).
-inline Rgba8 finishPair(__m128i rBiased) {  // 8 weight bits, R − 2^15
-    return store4(_mm_srai_epi32(_mm_add_epi32(rBiased, _mm_set1_epi32(32768 + 128)), 8));
+// Rounded results (docs/hardware.md, "Filtering": ⌊(Σ + 2^(bits−1)) / 2^bits⌋), int32
+// lanes r, g, b, a of one pixel.
+inline __m128i finishPair(__m128i rBiased) {  // 8 weight bits, R − 2^15
+    return _mm_srai_epi32(_mm_add_epi32(rBiased, _mm_set1_epi32(32768 + 128)), 8);
 }
-inline Rgba8 finishBilinear(__m128i sBiased) {  // 16 weight bits, S − 2^23
-    return store4(
-        _mm_srai_epi32(_mm_add_epi32(sBiased, _mm_set1_epi32((1 << 23) + (1 << 15))), 16));
+inline __m128i finishBilinear(__m128i sBiased) {  // 16 weight bits, S − 2^23
+    return _mm_srai_epi32(_mm_add_epi32(sBiased, _mm_set1_epi32((1 << 23) + (1 << 15))), 16);
 }
 // Two levels of 8-bit-weight sums (R − 2^15 each), blended by f: 16 weight bits.
-inline Rgba8 finishPairBlend(__m128i r0, __m128i r1, int32_t f) {
+inline __m128i finishPairBlend(__m128i r0, __m128i r1, int32_t f) {
     const __m128i s = _mm_madd_epi16(interleaveHalves(_mm_packs_epi32(r0, r1)), weightPair(f));
-    return store4(_mm_srai_epi32(_mm_add_epi32(s, _mm_set1_epi32((1 << 23) + (1 << 15))), 16));
+    return _mm_srai_epi32(_mm_add_epi32(s, _mm_set1_epi32((1 << 23) + (1 << 15))), 16);
 }
 // Two levels of bilinear sums (S − 2^23 each), blended by f: 24 weight bits.
-inline Rgba8 finishBilinearBlend(__m128i s0, __m128i s1, int32_t f) {
+inline __m128i finishBilinearBlend(__m128i s0, __m128i s1, int32_t f) {
     const __m128i w = weightPair(f);
     const __m128i hi = _mm_packs_epi32(_mm_srai_epi32(s0, 8), _mm_srai_epi32(s1, 8));
     const __m128i m = _mm_set1_epi32(255);
@@ -118,41 +140,82 @@ inline Rgba8 finishBilinearBlend(__m128i s0, __m128i s1, int32_t f) {
                                       _mm_madd_epi16(interleaveHalves(lo), w));
     // + 2^31 (the bias) + 2^23 (the rounding half), wrapping; the true value is < 2^32.
     const __m128i t = _mm_add_epi32(sum, _mm_set1_epi32(int32_t(0x80800000u)));
-    return store4(_mm_srli_epi32(t, 24));
+    return _mm_srli_epi32(t, 24);
+}
+// Four pixels' int32 lanes in [0, 255] → 16 bytes, pixel p in bytes 4p..4p+3.
+inline __m128i packQuad(const __m128i v[4]) {
+    return _mm_packus_epi16(_mm_packs_epi32(v[0], v[1]), _mm_packs_epi32(v[2], v[3]));
 }
 
-// Projection and λ, as TextureUnits::projectQuad; face per pixel (cube maps).
+// ---- projection and λ, as TextureUnits::projectQuad -----------------------------------
+inline __m128 flipSign(__m128 v) { return _mm_xor_ps(v, _mm_set1_ps(-0.0f)); }
+inline __m128 select(__m128 mask, __m128 a, __m128 b) {  // mask ? a : b
+    return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+}
+
+// Coordinates of the four pixels (s, t per lane; cube: on each pixel's own face) and
+// the biased, clamped λ.
 template <Target kTarget>
 inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
-                           float s[4], float t[4], int face[4]) {
+                           __m128& s, __m128& t, int face[4]) {
+    __m128 x = _mm_loadu_ps(&in[0][0]), y = _mm_loadu_ps(&in[1][0]);
+    __m128 z = _mm_loadu_ps(&in[2][0]), w = _mm_loadu_ps(&in[3][0]);
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    std::array<glm::vec4, 4> c;
     int32_t lambda;
     if constexpr (kTarget == Target::Cube) {
-        std::array<glm::vec4, 4> onFace;
-        CubeFace f0 = CubeFace::PositiveX;
+        // selectCubeFace lane for lane: ties X before Y before Z (>=, false on NaN as the
+        // scalar comparisons), the sign of a zero counts as positive.
+        const __m128 absMask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+        const __m128 ax = _mm_and_ps(x, absMask), ay = _mm_and_ps(y, absMask),
+                     az = _mm_and_ps(z, absMask);
+        const __m128 zero = _mm_setzero_ps();
+        const __m128 isX = _mm_and_ps(_mm_cmpge_ps(ax, ay), _mm_cmpge_ps(ax, az));
+        const __m128 isY = _mm_andnot_ps(isX, _mm_cmpge_ps(ay, az));
+        const __m128 isZ = _mm_andnot_ps(_mm_or_ps(isX, isY), _mm_castsi128_ps(_mm_set1_epi32(-1)));
+        const __m128 px = _mm_cmpge_ps(x, zero), py = _mm_cmpge_ps(y, zero), pz = _mm_cmpge_ps(z, zero);
+        // The table: +X (−z, −y, x), −X (z, −y, x), +Y (x, z, y), −Y (x, −z, y),
+        // +Z (x, −y, z), −Z (−x, −y, z).
+        const __m128 sc = select(isX, select(px, flipSign(z), z),
+                                 select(isY, x, select(pz, x, flipSign(x))));
+        const __m128 tc = select(isY, select(py, z, flipSign(z)), flipSign(y));
+        const __m128 ma = select(isX, x, select(isY, y, z));
+        const __m128 a = _mm_and_ps(ma, absMask);
+        const __m128 ok = _mm_cmpgt_ps(a, zero);  // zero or NaN major axis: face centre
+        const __m128 one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
+        s = select(ok, _mm_mul_ps(_mm_add_ps(_mm_div_ps(sc, a), one), half), half);
+        t = select(ok, _mm_mul_ps(_mm_add_ps(_mm_div_ps(tc, a), one), half), half);
+        const __m128i fi = _mm_or_si128(
+            _mm_and_si128(_mm_castps_si128(isY), _mm_set1_epi32(2)),
+            _mm_and_si128(_mm_castps_si128(isZ), _mm_set1_epi32(4)));
+        const __m128 pos = select(isX, px, select(isY, py, pz));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(face),
+                         _mm_add_epi32(fi, _mm_andnot_si128(_mm_castps_si128(pos), _mm_set1_epi32(1))));
+        // λ from all four pixels measured on pixel 0's face.
+        alignas(16) float sv[4], tv[4];
+        _mm_store_ps(sv, s);
+        _mm_store_ps(tv, t);
         for (int p = 0; p < 4; ++p) {
-            const glm::vec3 r(in[size_t(p)]);
-            const CubeCoord own = detail::selectCubeFace(r);
-            if (p == 0) f0 = own.face;
-            s[p] = own.s;
-            t[p] = own.t;
-            face[p] = int(own.face);
-            const CubeCoord cc = own.face == f0 ? own : detail::projectOntoCubeFace(f0, r);
-            onFace[size_t(p)] = glm::vec4(cc.s, cc.t, 0.0f, 0.0f);
-        }
-        lambda = quadLambda(onFace, qs.baseSize, 2);
-    } else {
-        std::array<glm::vec4, 4> c;
-        if (qs.projected) {
-            for (int p = 0; p < 4; ++p) {
-                const glm::vec4& v = in[size_t(p)];
-                c[size_t(p)] = glm::vec4(v.x / v.w, v.y / v.w, v.z / v.w, 0.0f);
+            if (face[p] == face[0]) {
+                c[size_t(p)] = glm::vec4(sv[p], tv[p], 0.0f, 0.0f);
+            } else {
+                const CubeCoord cc = detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[size_t(p)]));
+                c[size_t(p)] = glm::vec4(cc.s, cc.t, 0.0f, 0.0f);
             }
-        } else {
-            for (int p = 0; p < 4; ++p) c[size_t(p)] = glm::vec4(glm::vec3(in[size_t(p)]), 0.0f);
         }
+        lambda = quadLambda(c, qs.baseSize, 2);
+    } else {
+        if (qs.projected) {
+            x = _mm_div_ps(x, w);
+            y = _mm_div_ps(y, w);
+        }
+        s = x;
+        t = y;
+        alignas(16) float sv[4], tv[4];
+        _mm_store_ps(sv, s);
+        _mm_store_ps(tv, t);
         for (int p = 0; p < 4; ++p) {
-            s[p] = c[size_t(p)].x;
-            t[p] = c[size_t(p)].y;
+            c[size_t(p)] = glm::vec4(sv[p], tv[p], 0.0f, 0.0f);
             face[p] = 0;
         }
         lambda = quadLambda(c, qs.baseSize, kTarget == Target::OneD ? 1 : 2);
@@ -161,57 +224,64 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
 }
 
 template <Target kTarget, Addr kS, Addr kT>
-uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
-                          std::array<Rgba8, 4>& out) {
+uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in, __m128i& out) {
     constexpr bool kTwoD = kTarget != Target::OneD;
-    float s[4], t[4];
+    __m128 s, t;
     int face[4];
     const int32_t lambda = projectQuad<kTarget>(qs, in, s, t, face);
     const LevelChoice ch = chooseLevels(*qs.texture, qs.sampler, lambda);
     const LevelView& L0 = qs.level[size_t(ch.level0)];
     const LevelView& L1 = qs.level[size_t(ch.level1)];
+    __m128i v[4];
 
     if (ch.filter == FilterMode::Linear) {
-        // One level's sum for pixel p: S − 2^23 (2D) or R − 2^15 (1D).
-        auto levelSum = [&](const LevelView& L, int p) {
-            const Rgba8* base = L.data + size_t(face[p]) * L.faceStride;
-            int32_t x0, x1, fx;
-            linearAxis<kS>(s[p], L.width, x0, x1, fx);
-            if constexpr (kTwoD) {
-                int32_t y0, y1, fy;
-                linearAxis<kT>(t[p], L.height, y0, y1, fy);
-                return bilinearBiased(base + size_t(y0) * size_t(L.width),
-                                      base + size_t(y1) * size_t(L.width), x0, x1, fx, fy);
-            } else {
-                return pairBiased(load4(base + x0), load4(base + x1), fx);
+        // One level's sums for the four pixels: S − 2^23 (2D) or R − 2^15 (1D).
+        auto levelSums = [&](const LevelView& L, __m128i sum[4]) {
+            Axis4 ax, ay;
+            linearAxis4<kS>(s, L.width, ax);
+            if constexpr (kTwoD) linearAxis4<kT>(t, L.height, ay);
+            for (int p = 0; p < 4; ++p) {
+                const Rgba8* base = L.data + size_t(face[p]) * L.faceStride;
+                if constexpr (kTwoD) {
+                    sum[p] = bilinearBiased(base + size_t(ay.i0[p]) * size_t(L.width),
+                                            base + size_t(ay.i1[p]) * size_t(L.width), ax.i0[p],
+                                            ax.i1[p], ax.frac[p], ay.frac[p]);
+                } else {
+                    sum[p] = pairBiased(load4(base + ax.i0[p]), load4(base + ax.i1[p]), ax.frac[p]);
+                }
             }
         };
+        __m128i a[4];
+        levelSums(L0, a);
         if (ch.blend) {
-            for (int p = 0; p < 4; ++p) {
-                const __m128i a = levelSum(L0, p), b = levelSum(L1, p);
-                out[size_t(p)] = kTwoD ? finishBilinearBlend(a, b, ch.frac)
-                                       : finishPairBlend(a, b, ch.frac);
-            }
+            __m128i b[4];
+            levelSums(L1, b);
+            for (int p = 0; p < 4; ++p)
+                v[p] = kTwoD ? finishBilinearBlend(a[p], b[p], ch.frac) : finishPairBlend(a[p], b[p], ch.frac);
         } else {
-            for (int p = 0; p < 4; ++p) {
-                const __m128i a = levelSum(L0, p);
-                out[size_t(p)] = kTwoD ? finishBilinear(a) : finishPair(a);
-            }
+            for (int p = 0; p < 4; ++p) v[p] = kTwoD ? finishBilinear(a[p]) : finishPair(a[p]);
         }
+        out = packQuad(v);
         return uint64_t(kTwoD ? 4 : 2) * (ch.blend ? 2 : 1) * 4;
     }
     // NEAREST: one texel per level; two levels blend with 8 weight bits.
-    auto texel = [&](const LevelView& L, int p) {
-        const Rgba8* base = L.data + size_t(face[p]) * L.faceStride;
-        const int32_t x = nearestAxis<kS>(s[p], L.width);
-        const int32_t y = kTwoD ? nearestAxis<kT>(t[p], L.height) : 0;
-        return base + size_t(y) * size_t(L.width) + size_t(x);
-    };
-    if (ch.blend) {
+    auto texels = [&](const LevelView& L, const Rgba8* px[4]) {
+        int32_t xi[4], yi[4] = {0, 0, 0, 0};
+        nearestAxis4<kS>(s, L.width, xi);
+        if constexpr (kTwoD) nearestAxis4<kT>(t, L.height, yi);
         for (int p = 0; p < 4; ++p)
-            out[size_t(p)] = finishPair(pairBiased(load4(texel(L0, p)), load4(texel(L1, p)), ch.frac));
+            px[p] = L.data + size_t(face[p]) * L.faceStride + size_t(yi[p]) * size_t(L.width) + size_t(xi[p]);
+    };
+    const Rgba8* t0[4];
+    texels(L0, t0);
+    if (ch.blend) {
+        const Rgba8* t1[4];
+        texels(L1, t1);
+        for (int p = 0; p < 4; ++p) v[p] = finishPair(pairBiased(load4(t0[p]), load4(t1[p]), ch.frac));
+        out = packQuad(v);
     } else {
-        for (int p = 0; p < 4; ++p) out[size_t(p)] = *texel(L0, p);
+        out = _mm_unpacklo_epi64(_mm_unpacklo_epi32(load4(t0[0]), load4(t0[1])),
+                                 _mm_unpacklo_epi32(load4(t0[2]), load4(t0[3])));
     }
     return uint64_t(ch.blend ? 2 : 1) * 4;
 }

@@ -15,6 +15,8 @@
 #include <array>
 #include <cstdint>
 
+#include <emmintrin.h>
+
 #include <glm/vec4.hpp>
 
 #include "core/color.h"
@@ -25,9 +27,10 @@ namespace rg::tex::detail {
 
 struct QuadSampler;
 // Samples one stage for the four pixels of a quad from its coordinate set `in` (s, t, r, q
-// per pixel, before any divide); returns the texel fetches the reference would count.
+// per pixel, before any divide) into `out` (pixel p in bytes 4p..4p+3, the layout of
+// std::array<Rgba8, 4>); returns the texel fetches the reference would count.
 using QuadSampleFn = uint64_t (*)(const QuadSampler&, const std::array<glm::vec4, 4>& in,
-                                  std::array<Rgba8, 4>& out);
+                                  __m128i& out);
 
 // One mipmap level as the kernels address it: face f starts at data + f·faceStride.
 struct LevelView {

@@ -386,12 +386,10 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
             r.texture = q::ones();
             if (sampling_ & (1u << i)) {
                 const detail::QuadSampler& qs = compiled.stage[size_t(i)];
-                std::array<Rgba8, 4> texel;
                 if (qs.fn)
-                    fetched += qs.fn(qs, quad.texCoord[st.texCoordIndex], texel);
+                    fetched += qs.fn(qs, quad.texCoord[st.texCoordIndex], r.texture);
                 else
-                    texel = sampleStage(i, quad, path);
-                r.texture = q::load(texel);
+                    r.texture = q::load(sampleStage(i, quad, path));
             }
             if (havePremod) {
                 r.texture = q::mulDiv255(r.texture, premod);
