@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "texunit/sampler.h"
 
@@ -61,6 +62,39 @@ inline int32_t lodFixedFromFloat(float v) {
     if (!(v == v)) return 0;
     v = std::clamp(v, -4096.0f, 4096.0f);
     return floorToInt(v * float(kLodOne) + 0.5f);
+}
+
+// λ for ρ = 0 (all four pixels on one texel coordinate): deep magnification, far from
+// any int32 overflow after bias.
+constexpr int32_t kLambdaZero = -(1 << 20);
+
+// log2Fixed (sampler.h) inline, for the per-quad paths.
+inline int32_t log2FixedInline(float x) {
+    if (!(x > 0.0f)) return kLambdaZero;
+    if (std::isinf(x) || std::isnan(x)) return 255 << kLodFracBits;
+    // The float's bits read as a fixed-point number are (e + 127)·2^23 + (m − 1)·2^23:
+    // minus the bias this is e + (m − 1), the piecewise-linear log2 hardware used (exact
+    // at powers of two, at most 0.0861 low in between). Keep kLodFracBits of fraction.
+    uint32_t bits;
+    std::memcpy(&bits, &x, 4);
+    int32_t l = int32_t(bits) - (127 << 23);
+    return l >> (23 - kLodFracBits);  // arithmetic shift: floor
+}
+
+// quadLambda (sampler.h) inline for 1 or 2 dimensions: u = (s, t) of pixels 0, 1, 2
+// (x neighbour 1, y neighbour 2), n = the level-base extents as floats.
+inline int32_t quadLambdaInline(const float u[2][3], const float n[2], int dims) {
+    float dx2 = 0.0f, dy2 = 0.0f;
+    for (int d = 0; d < dims; ++d) {
+        const float dx = (u[d][1] - u[d][0]) * n[d];
+        const float dy = (u[d][2] - u[d][0]) * n[d];
+        dx2 = dx2 + dx * dx;
+        dy2 = dy2 + dy * dy;
+    }
+    const float rho2 = std::max(dx2, dy2);
+    const int32_t l = log2FixedInline(rho2);
+    // λ = log2 ρ = ½ log2 ρ²; the arithmetic shift floors.
+    return l <= kLambdaZero ? kLambdaZero : (l >> 1);
 }
 
 // One axis of a filter footprint: 1 tap (nearest, weight 1) or 2 taps (linear, weights

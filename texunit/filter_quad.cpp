@@ -161,7 +161,6 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
     __m128 x = _mm_loadu_ps(&in[0][0]), y = _mm_loadu_ps(&in[1][0]);
     __m128 z = _mm_loadu_ps(&in[2][0]), w = _mm_loadu_ps(&in[3][0]);
     _MM_TRANSPOSE4_PS(x, y, z, w);
-    std::array<glm::vec4, 4> c;
     int32_t lambda;
     if constexpr (kTarget == Target::Cube) {
         // selectCubeFace lane for lane: ties X before Y before Z (>=, false on NaN as the
@@ -195,15 +194,18 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
         alignas(16) float sv[4], tv[4];
         _mm_store_ps(sv, s);
         _mm_store_ps(tv, t);
-        for (int p = 0; p < 4; ++p) {
+        float u[2][3];
+        for (int p = 0; p < 3; ++p) {
             if (face[p] == face[0]) {
-                c[size_t(p)] = glm::vec4(sv[p], tv[p], 0.0f, 0.0f);
+                u[0][p] = sv[p];
+                u[1][p] = tv[p];
             } else {
                 const CubeCoord cc = detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[size_t(p)]));
-                c[size_t(p)] = glm::vec4(cc.s, cc.t, 0.0f, 0.0f);
+                u[0][p] = cc.s;
+                u[1][p] = cc.t;
             }
         }
-        lambda = quadLambda(c, qs.baseSize, 2);
+        lambda = quadLambdaInline(u, qs.baseSizeF, 2);
     } else {
         if (qs.projected) {
             x = _mm_div_ps(x, w);
@@ -214,11 +216,9 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
         alignas(16) float sv[4], tv[4];
         _mm_store_ps(sv, s);
         _mm_store_ps(tv, t);
-        for (int p = 0; p < 4; ++p) {
-            c[size_t(p)] = glm::vec4(sv[p], tv[p], 0.0f, 0.0f);
-            face[p] = 0;
-        }
-        lambda = quadLambda(c, qs.baseSize, kTarget == Target::OneD ? 1 : 2);
+        const float u[2][3] = {{sv[0], sv[1], sv[2]}, {tv[0], tv[1], tv[2]}};
+        for (int p = 0; p < 4; ++p) face[p] = 0;
+        lambda = quadLambdaInline(u, qs.baseSizeF, kTarget == Target::OneD ? 1 : 2);
     }
     return std::clamp(lambda + qs.lodBias, qs.lodMin, qs.lodMax);
 }
@@ -312,6 +312,8 @@ QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool pro
     if (t.isFloat() || hasColorTable || t.levels() > QuadSampler::kMaxLevels) return q;
     const int base = std::clamp(s.baseLevel, 0, t.levels() - 1);
     q.baseSize = t.levelSize(base);
+    q.baseSizeF[0] = float(q.baseSize[0]);
+    q.baseSizeF[1] = float(q.baseSize[1]);
     // biasAndClampLambda with its three conversions done once.
     q.lodBias = lodFixedFromFloat(s.lodBias);
     q.lodMin = lodFixedFromFloat(s.minLod);

@@ -47,6 +47,7 @@ struct QuadSampler {
     bool projected = false;  // divide by q (1D/2D)
     int32_t lodBias = 0, lodMin = 0, lodMax = 0;  // fixed point: λ' = clamp(λ + bias, min, max)
     std::array<int, 4> baseSize{1, 1, 1, 1};      // level-base extent (λ is measured in it)
+    float baseSizeF[2] = {1.0f, 1.0f};             // the same as floats
     std::array<LevelView, kMaxLevels> level{};
 };
 

@@ -10,24 +10,12 @@
 namespace rg::tex {
 
 namespace {
-// λ for ρ = 0 (all four pixels on one texel coordinate): deep magnification, far from
-// any int32 overflow after bias.
-constexpr int32_t kLambdaZero = -(1 << 20);
+using detail::kLambdaZero;
 
 int32_t fixedFromFloat(float v) { return detail::lodFixedFromFloat(v); }
 }  // namespace
 
-int32_t log2Fixed(float x) {
-    if (!(x > 0.0f)) return kLambdaZero;
-    if (std::isinf(x) || std::isnan(x)) return 255 << kLodFracBits;
-    // The float's bits read as a fixed-point number are (e + 127)·2^23 + (m − 1)·2^23:
-    // minus the bias this is e + (m − 1), the piecewise-linear log2 hardware used (exact
-    // at powers of two, at most 0.0861 low in between). Keep kLodFracBits of fraction.
-    uint32_t bits;
-    std::memcpy(&bits, &x, 4);
-    int32_t l = int32_t(bits) - (127 << 23);
-    return l >> (23 - kLodFracBits);  // arithmetic shift: floor
-}
+int32_t log2Fixed(float x) { return detail::log2FixedInline(x); }
 
 int32_t quadLambda(const std::array<glm::vec4, 4>& c, const std::array<int, 4>& size, int dims) {
     // Differences along x (pixel 1 − pixel 0) and y (pixel 2 − pixel 0) in texels of the

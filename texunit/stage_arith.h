@@ -230,23 +230,23 @@ struct Regs {
     __m128i diffuse, specular, current, texture, tfactor;
 };
 
-inline __m128i load(const std::array<Rgba8, 4>& v) {
+[[gnu::always_inline]] inline __m128i load(const std::array<Rgba8, 4>& v) {
     return _mm_loadu_si128(reinterpret_cast<const __m128i*>(v.data()));
 }
-inline void store(std::array<Rgba8, 4>& v, __m128i x) {
+[[gnu::always_inline]] inline void store(std::array<Rgba8, 4>& v, __m128i x) {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(v.data()), x);
 }
-inline __m128i splat(Rgba8 c) {
+[[gnu::always_inline]] inline __m128i splat(Rgba8 c) {
     uint32_t x = uint32_t(c.r) | uint32_t(c.g) << 8 | uint32_t(c.b) << 16 | uint32_t(c.a) << 24;
     return _mm_set1_epi32(int32_t(x));
 }
-inline __m128i ones() { return _mm_set1_epi32(-1); }
-inline __m128i alphaBroadcast(__m128i v) {
+[[gnu::always_inline]] inline __m128i ones() { return _mm_set1_epi32(-1); }
+[[gnu::always_inline]] inline __m128i alphaBroadcast(__m128i v) {
     const __m128i a = _mm_srli_epi32(v, 24);
     const __m128i a2 = _mm_or_si128(a, _mm_slli_epi32(a, 8));
     return _mm_or_si128(a2, _mm_slli_epi32(a2, 16));
 }
-inline __m128i selectArg(uint8_t a, const Regs& in) {
+[[gnu::always_inline]] inline __m128i selectArg(uint8_t a, const Regs& in) {
     __m128i v;
     switch (a & arg::SourceMask) {
         case arg::Diffuse: v = in.diffuse; break;
@@ -261,24 +261,24 @@ inline __m128i selectArg(uint8_t a, const Regs& in) {
     return v;
 }
 // round(a·b/255) per byte (Blinn), as arith8::mulDiv255.
-inline __m128i mulDiv255Half(__m128i a, __m128i b) {
+[[gnu::always_inline]] inline __m128i mulDiv255Half(__m128i a, __m128i b) {
     const __m128i t = _mm_add_epi16(_mm_mullo_epi16(a, b), _mm_set1_epi16(128));
     return _mm_srli_epi16(_mm_add_epi16(t, _mm_srli_epi16(t, 8)), 8);
 }
-inline __m128i mulDiv255(__m128i a, __m128i b) {
+[[gnu::always_inline]] inline __m128i mulDiv255(__m128i a, __m128i b) {
     const __m128i z = _mm_setzero_si128();
     return _mm_packus_epi16(
         mulDiv255Half(_mm_unpacklo_epi8(a, z), _mm_unpacklo_epi8(b, z)),
         mulDiv255Half(_mm_unpackhi_epi8(a, z), _mm_unpackhi_epi8(b, z)));
 }
 // (a·w + b·(255 − w) + 128) then Blinn's divide, per byte, as lerp255.
-inline __m128i lerp255Half(__m128i a, __m128i b, __m128i w) {
+[[gnu::always_inline]] inline __m128i lerp255Half(__m128i a, __m128i b, __m128i w) {
     const __m128i iw = _mm_sub_epi16(_mm_set1_epi16(255), w);
     const __m128i t = _mm_add_epi16(_mm_add_epi16(_mm_mullo_epi16(a, w), _mm_mullo_epi16(b, iw)),
                                     _mm_set1_epi16(128));
     return _mm_srli_epi16(_mm_add_epi16(t, _mm_srli_epi16(t, 8)), 8);
 }
-inline __m128i lerp255(__m128i a, __m128i b, __m128i w) {
+[[gnu::always_inline]] inline __m128i lerp255(__m128i a, __m128i b, __m128i w) {
     const __m128i z = _mm_setzero_si128();
     return _mm_packus_epi16(
         lerp255Half(_mm_unpacklo_epi8(a, z), _mm_unpacklo_epi8(b, z), _mm_unpacklo_epi8(w, z)),
@@ -286,7 +286,7 @@ inline __m128i lerp255(__m128i a, __m128i b, __m128i w) {
 }
 // clamp255(k·(a1 + a2 − 128)) per byte, k = 1 or 2 (ADDSIGNED, ADDSIGNED2X).
 template <int kShift>
-inline __m128i addSigned(__m128i a, __m128i b) {
+[[gnu::always_inline]] inline __m128i addSigned(__m128i a, __m128i b) {
     const __m128i z = _mm_setzero_si128(), k = _mm_set1_epi16(128);
     auto half = [&](__m128i x, __m128i y) {
         return _mm_slli_epi16(_mm_sub_epi16(_mm_add_epi16(x, y), k), kShift);
@@ -294,11 +294,11 @@ inline __m128i addSigned(__m128i a, __m128i b) {
     return _mm_packus_epi16(half(_mm_unpacklo_epi8(a, z), _mm_unpacklo_epi8(b, z)),
                             half(_mm_unpackhi_epi8(a, z), _mm_unpackhi_epi8(b, z)));
 }
-inline __m128i scale(__m128i v, uint8_t shift) {
+[[gnu::always_inline]] inline __m128i scale(__m128i v, uint8_t shift) {
     for (uint8_t i = 0; i < shift; ++i) v = _mm_adds_epu8(v, v);
     return v;
 }
-inline __m128i blendAlphaFor(TextureOp op, const Regs& in) {
+[[gnu::always_inline]] inline __m128i blendAlphaFor(TextureOp op, const Regs& in) {
     switch (op) {
         case TextureOp::BlendDiffuseAlpha: return alphaBroadcast(in.diffuse);
         case TextureOp::BlendTextureAlpha:
@@ -309,7 +309,7 @@ inline __m128i blendAlphaFor(TextureOp op, const Regs& in) {
     }
 }
 // combineChannel per byte for the channel ops (isChannelOp).
-inline __m128i combine(TextureOp op, __m128i a1, __m128i a2, __m128i a0, const Regs& in) {
+[[gnu::always_inline]] inline __m128i combine(TextureOp op, __m128i a1, __m128i a2, __m128i a0, const Regs& in) {
     switch (op) {
         case TextureOp::SelectArg1: return a1;
         case TextureOp::SelectArg2: return a2;
@@ -337,18 +337,18 @@ inline __m128i combine(TextureOp op, __m128i a1, __m128i a2, __m128i a0, const R
         default: return a1;
     }
 }
-inline bool isChannelOp(TextureOp op) {
+[[gnu::always_inline]] inline bool isChannelOp(TextureOp op) {
     return (op >= TextureOp::SelectArg1 && op <= TextureOp::BlendCurrentAlpha) || op == TextureOp::Lerp;
 }
 // The states evaluate() takes: a channel colour op and a channel (or DISABLE/PREMODULATE)
 // alpha op; the rest (DOTPRODUCT3, the MODULATE*ADD* ops) go through evaluateStageQuad.
-inline bool supported(const StageState& st) {
+[[gnu::always_inline]] inline bool supported(const StageState& st) {
     return isChannelOp(st.colorOp) &&
            (isChannelOp(st.alphaOp) || st.alphaOp == TextureOp::Disable ||
             st.alphaOp == TextureOp::PreModulate);
 }
 // evaluateStageQuad for a supported() state: the new CURRENT of the four pixels.
-inline __m128i evaluate(const StageState& st, const Regs& in) {
+[[gnu::always_inline]] inline __m128i evaluate(const StageState& st, const Regs& in) {
     const __m128i c0 = st.colorOp == TextureOp::Lerp ? selectArg(st.colorArg0, in) : _mm_setzero_si128();
     const __m128i color = scale(combine(st.colorOp, selectArg(st.colorArg1, in),
                                         selectArg(st.colorArg2, in), c0, in),
