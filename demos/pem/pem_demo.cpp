@@ -163,14 +163,14 @@ PemDemo::PemDemo(const viewer::DemoOptions& options) : params_(pemParams()) {
         samples_.clear();
         for (int v = 0; v < int(path_.count); ++v) {
             auto s = loadView(assets, *scene_, v, emSize_, ptmSize);
-            if (!s || !s->hasBaselines()) return false;
+            if (!s) return false;
             samples_.push_back(std::move(*s));
         }
         return true;
     };
     if (!load()) {
-        // Views missing (a split precompute) or stored without the baselines the viewer
-        // offers: the reproduction fills them in, reusing the ones that are there.
+        // Views missing (a split precompute): the reproduction fills them in, reusing the
+        // ones that are there.
         precompute();
         if (!load()) throw Error("PEM: views missing in " + assets.string() + " after the precompute");
     }
@@ -252,6 +252,25 @@ viewer::FrameNotes PemDemo::render(raster::Device& device, const ray::Camera& ca
     notes.push_back({"em mode", emModeName(mode)});
     std::snprintf(buf, sizeof buf, "%.2f° (sample position %.3f)", angle, sb.position);
     notes.push_back({"angle on path", buf});
+    if (mode == EmMode::SingleInfinite || mode == EmMode::Ptm) {
+        // The reproduction infers the baselines' maps only at the samples it evaluates
+        // (runPem); the frame uses the nearest samples that have them.
+        auto nearestWith = [&](int v) {
+            int best = -1;
+            for (int i = 0; i < int(samples_.size()); ++i)
+                if (samples_[size_t(i)].hasBaselines() && (best < 0 || std::abs(i - v) < std::abs(best - v)))
+                    best = i;
+            return best;
+        };
+        int a = nearestWith(sb.a), b = nearestWith(sb.b);
+        if (a < 0) throw Error("PEM: no viewpoint sample has the single-EM/PTM baseline maps");
+        if (a != sb.a || b != sb.b) {
+            notes.push_back({"baselines", "maps only at samples with baselines; using " +
+                                              std::to_string(a) + (b != a ? " and " + std::to_string(b) : "")});
+            if (a == b) sb.b = sb.a = a, sb.w = 0;
+            else sb.a = a, sb.b = b;
+        }
+    }
     if (mode == EmMode::Static) {
         t = renderer_->render(camera, mode, uploaded(-1, mode));
         notes.push_back({"samples", "static EM (no viewpoint samples)"});

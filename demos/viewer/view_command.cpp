@@ -7,7 +7,7 @@
 #include <map>
 
 #include "core/error.h"
-#include "raycore/image.h"
+#include <OpenImageIO/imageio.h>
 
 namespace fs = std::filesystem;
 
@@ -46,17 +46,17 @@ std::string bindingsHelp() {
 }
 
 void writePixelsPng(const std::string& path, int width, int height, const std::vector<Rgba8>& px) {
-    ray::Image img(width, height, 4);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const Rgba8& c = px[size_t(y) * size_t(width) + size_t(x)];
-            float* p = &img.pixels[(size_t(y) * size_t(width) + size_t(x)) * 4];
-            // c/255 quantises back to c (ray::quantize8 rounds), so the PNG holds the bytes.
-            p[0] = float(c.r) / 255.0f, p[1] = float(c.g) / 255.0f;
-            p[2] = float(c.b) / 255.0f, p[3] = float(c.a) / 255.0f;
-        }
+    // The bytes as they are: alpha is written unassociated, so OpenImageIO neither divides
+    // the colour by it here nor multiplies by it when a reader asks for the same flag
+    // (oiiotool --iconfig oiio:UnassociatedAlpha 1).
     if (fs::path(path).has_parent_path()) fs::create_directories(fs::path(path).parent_path());
-    ray::writeImage(path, img);
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out) throw Error(path + ": no image writer (" + OIIO::geterror() + ")");
+    OIIO::ImageSpec spec(width, height, 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()))
+        throw Error(path + ": cannot write image (" + out->geterror() + ")");
+    out->close();
 }
 
 void writeFramebufferPng(const std::string& path, const raster::Framebuffer& fb) {

@@ -73,8 +73,11 @@ int runWindow(ViewerSession& session, const ViewOptions& o) {
     if (!window) throw Error(std::string("SDL_CreateWindow: ") + SDL_GetError());
     SDL_Renderer* renderer = SDL_CreateRenderer(window, -1, SDL_RENDERER_SOFTWARE);
     if (!renderer) throw Error(std::string("SDL_CreateRenderer: ") + SDL_GetError());
-    SDL_Texture* fbTexture = SDL_CreateTexture(renderer, SDL_PIXELFORMAT_RGBA32,
+    // The colour buffer's RGB as a monitor shows it: bytes R, G, B, A in memory read as
+    // XBGR8888 (alpha ignored). An alpha format would be blended over the window.
+    SDL_Texture* fbTexture = SDL_CreateTexture(renderer, SDL_PIXELFORMAT_XBGR8888,
                                                SDL_TEXTUREACCESS_STREAMING, fbW, fbH);
+    SDL_SetTextureBlendMode(fbTexture, SDL_BLENDMODE_NONE);
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;   // nothing hidden in a file: same layout every start

@@ -1,0 +1,167 @@
+// The viewer's parts that need no window: the record format, the orbit camera, the PEM
+// demo's choice of samples, and the gamepad-to-action mapping.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "core/error.h"
+#include "gamepad_control.h"
+#include "orbit_camera.h"
+#include "pem_demo.h"
+#include "viewer_session.h"
+
+using namespace rg::viewer;
+
+TEST(ViewerRecord, RoundTripKeepsEveryActionAndFloatBits) {
+    Recording r;
+    r.demo = "pem";
+    r.profile = "geforce256";
+    r.scene = "";
+    std::vector<Action> actions = {
+        {Action::Kind::Orbit, 0.1f, -1.0f / 3.0f, 0, ""},
+        {Action::Kind::Dolly, 0.97f, 0, 0, ""},
+        {Action::Kind::Pan, 1e-7f, 12345.678f, 0, ""},
+        {Action::Kind::Raise, -0.01f, 0, 0, ""},
+        {Action::Kind::Reset, 0, 0, 0, ""},
+        {Action::Kind::Sample, 0, 0, 5, ""},
+        {Action::Kind::Step, 0, 0, -1, ""},
+        {Action::Kind::Nearest, 0, 0, 0, ""},
+        {Action::Kind::Param, 0, 0, 2, "em"},
+        {Action::Kind::Profile, 0, 0, 0, "geforce8800"},
+        {Action::Kind::Threads, 0, 0, 3, ""},
+        {Action::Kind::Screenshot, 0, 0, 0, ""},
+    };
+    std::stringstream s;
+    writeRecordingHeader(s, r);
+    for (size_t i = 0; i < actions.size(); ++i) writeAction(s, int64_t(i / 2), actions[i]);
+    writeHash(s, 3, 0x0123456789abcdefull);
+    writeEnd(s, 7);
+    Recording back = readRecording(s);
+    EXPECT_EQ(back.demo, "pem");
+    EXPECT_EQ(back.profile, "geforce256");
+    EXPECT_EQ(back.scene, "");
+    EXPECT_EQ(back.frames, 7);
+    ASSERT_EQ(back.actions.size(), actions.size());
+    for (size_t i = 0; i < actions.size(); ++i) {
+        EXPECT_EQ(back.actions[i].frame, int64_t(i / 2));
+        EXPECT_EQ(back.actions[i].action, actions[i]) << i;
+    }
+    ASSERT_EQ(back.hashes.size(), 1u);
+    EXPECT_EQ(back.hashes[0].second, 0x0123456789abcdefull);
+}
+
+TEST(ViewerRecord, MalformedLinesNameTheLine) {
+    auto parse = [](const std::string& text) {
+        std::istringstream in(text);
+        return readRecording(in);
+    };
+    const std::string head = "retroglass-view-record 1\ndemo pem\nprofile geforce256\n";
+    EXPECT_THROW(parse(""), rg::Error);
+    EXPECT_THROW(parse("retroglass-view-record 2\n"), rg::Error);
+    EXPECT_THROW(parse(head + "3 fly 1 2\n"), rg::Error);
+    EXPECT_THROW(parse(head + "3 orbit 1\n"), rg::Error);
+    EXPECT_THROW(parse(head + "-1 reset\n"), rg::Error);
+    EXPECT_THROW(parse(head + "x reset\n"), rg::Error);
+    EXPECT_THROW(parse(head + "3 hash 12\n"), rg::Error);
+    try {
+        parse(head + "0 reset\n5 orbit one two\n");
+        FAIL();
+    } catch (const rg::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("line 5"), std::string::npos) << e.what();
+    }
+    // No end line (a window that was killed): the frames named so far.
+    Recording r = parse(head + "4 reset\n9 hash 0000000000000001\n");
+    EXPECT_EQ(r.frames, 10);
+}
+
+TEST(ViewerOrbitCamera, ReachesCameraOnCircleExactlyEnough) {
+    for (float angle : {0.0f, 14.0f, 90.0f, 200.0f, -45.0f}) {
+        rg::ray::Camera c = rg::ray::cameraOnCircle({0, 1.5f, 0}, 8.0f, 2.5f, angle, 40.0f);
+        OrbitCamera o = OrbitCamera::fromCamera(c);
+        rg::ray::Camera back = o.camera();
+        EXPECT_NEAR(glm::length(back.eye - c.eye), 0.0f, 1e-4f) << angle;
+        EXPECT_EQ(back.target, c.target);
+    }
+}
+
+TEST(ViewerOrbitCamera, ControlsStayInRange) {
+    OrbitCamera o;
+    o.distance = 5;
+    o.orbit(0, 200);
+    EXPECT_LE(o.elevationDegrees, 89.0f);
+    o.dolly(100, 1, 10);
+    EXPECT_EQ(o.distance, 10.0f);
+    o.dolly(1e-6f, 1, 10);
+    EXPECT_EQ(o.distance, 1.0f);
+    o.orbit(720.5f, 0);
+    EXPECT_LE(std::abs(o.azimuthDegrees), 180.0f);
+    OrbitCamera p = o;
+    p.pan(0.1f, 0.0f);
+    EXPECT_NEAR(glm::length(p.target - o.target), 0.1f * o.distance, 1e-4f);
+    float eyeY = o.camera().eye.y;
+    o.raise(0.1f);
+    EXPECT_NEAR(o.camera().eye.y, eyeY + 0.1f, 1e-3f);
+}
+
+TEST(ViewerPemSamples, BlendWeightFromAngle) {
+    rg::ray::ViewpointPath path;
+    path.startDegrees = 10.0f;
+    path.stepDegrees = 4.0f;
+    path.count = 8;
+    auto b = rg::pem::blendForAngle(path, 10.0f, true);   // on sample 0
+    EXPECT_EQ(b.a, 0);
+    EXPECT_EQ(b.b, 0);
+    b = rg::pem::blendForAngle(path, 15.0f, true);        // a quarter past sample 1
+    EXPECT_EQ(b.a, 1);
+    EXPECT_EQ(b.b, 2);
+    EXPECT_FLOAT_EQ(b.w, 0.25f);
+    b = rg::pem::blendForAngle(path, 15.0f, false);       // nearest alone
+    EXPECT_EQ(b.a, 1);
+    EXPECT_EQ(b.b, 1);
+    b = rg::pem::blendForAngle(path, 17.0f, false);
+    EXPECT_EQ(b.a, 2);
+    b = rg::pem::blendForAngle(path, 1000.0f, true);      // past the end: the last sample
+    EXPECT_EQ(b.a, 7);
+    EXPECT_EQ(b.b, 7);
+    b = rg::pem::blendForAngle(path, 13.99999f, true);    // weight rounds to TFACTOR 255
+    EXPECT_EQ(b.a, 1);
+    EXPECT_EQ(b.b, 1);
+    rg::ray::Camera c = rg::ray::cameraOnCircle(path.center, path.radius, path.height, 18.5f);
+    EXPECT_NEAR(rg::pem::angleOnPath(path, c), 18.5f, 1e-3f);
+    c = rg::ray::cameraOnCircle(path.center, path.radius, path.height, 18.5f + 360.0f);
+    EXPECT_NEAR(rg::pem::angleOnPath(path, c), 18.5f, 1e-3f);
+}
+
+TEST(ViewerGamepadActions, SticksAndButtonEdges) {
+    PadBindings b;
+    rg::viewer::pad::PadState idle, s;
+    EXPECT_TRUE(padActions(idle, idle, b).empty());
+    s.lx = 1.0f;                                // full right: orbit at full rate
+    auto a = padActions(s, idle, b);
+    ASSERT_EQ(a.size(), 1u);
+    EXPECT_EQ(a[0].kind, Action::Kind::Orbit);
+    EXPECT_FLOAT_EQ(a[0].x, b.orbitDegreesPerFrame);
+    s = idle;
+    s.lx = 0.05f;                               // inside the dead zone
+    EXPECT_TRUE(padActions(s, idle, b).empty());
+    s = idle;
+    s.buttons = rg::viewer::pad::R1;
+    a = padActions(s, idle, b);
+    ASSERT_EQ(a.size(), 1u);
+    EXPECT_EQ(a[0].kind, Action::Kind::Step);
+    EXPECT_EQ(a[0].value, 1);
+    EXPECT_TRUE(padActions(s, s, b).empty());   // held: one step only
+    s.buttons = rg::viewer::pad::South;
+    a = padActions(s, idle, b);
+    ASSERT_EQ(a.size(), 1u);
+    EXPECT_EQ(a[0].kind, Action::Kind::Screenshot);
+    s = idle;
+    s.ry = 1.0f, s.rx = -1.0f;
+    a = padActions(s, idle, b);
+    ASSERT_EQ(a.size(), 2u);
+    EXPECT_EQ(a[0].kind, Action::Kind::Dolly);
+    EXPECT_LT(a[0].x, 1.0f);                    // pushed forward: closer
+    EXPECT_EQ(a[1].kind, Action::Kind::Raise);
+    EXPECT_LT(a[1].x, 0.0f);
+}

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# The viewer tested like a user: start it in an Xvfb display, drive it with key presses
+# (xdotool), take a screenshot (F12), quit (Esc); then replay the recorded input headless
+# and require (1) every frame's hash to match the window's, (2) the screenshot's emulated
+# framebuffer to equal the headless frame byte for byte, and (3) the window's pixels over
+# the framebuffer region to equal that frame's RGB.
+#
+#   viewer_under_xvfb.sh RETROGLASS PNG_COMPARE WORKDIR
+# WORKDIR keeps out/pem (the quick precompute runs there on the first run) and the results.
+set -euo pipefail
+rg="$1"
+compare="$2"
+work="$3"
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+for tool in Xvfb xdotool; do
+    command -v "$tool" >/dev/null ||
+        fail "'$tool' is not installed. Install the Debian packages xvfb xdotool" \
+             "(./retroglass installs them); this test does not skip."
+done
+
+mkdir -p "$work"
+cd "$work"
+rm -rf run && mkdir run
+
+# ---- a display of our own: Xvfb picks a free number and writes it when it is ready ------
+exec 5> run/display
+Xvfb -displayfd 5 -screen 0 1280x1024x24 -nolisten tcp >run/xvfb.log 2>&1 &
+xvfb=$!
+exec 5>&-
+viewer=
+cleanup() {
+    [ -n "$viewer" ] && kill "$viewer" 2>/dev/null || true
+    kill "$xvfb" 2>/dev/null || true
+}
+trap cleanup EXIT
+for _ in $(seq 1 200); do
+    [ -s run/display ] && break
+    kill -0 "$xvfb" 2>/dev/null || fail "Xvfb exited: $(cat run/xvfb.log)"
+    sleep 0.1
+done
+[ -s run/display ] || fail "Xvfb did not report a display"
+export DISPLAY=":$(head -1 run/display)"
+echo "Xvfb on $DISPLAY"
+
+# ---- the window, driven by keys ------------------------------------------------------------
+# --frames bounds the run should the keys never arrive (then the checks below fail).
+"$rg" view pem --record run/input.txt --shots run/shots --frames 2000 >run/view.log 2>&1 &
+viewer=$!
+wid=$(xdotool search --sync --name "retroglass view pem" | head -1)
+[ -n "$wid" ] || fail "no viewer window appeared"
+xdotool windowfocus --sync "$wid"
+# Between two samples (3 passes), a sample step, off the plane of the samples, a screenshot.
+xdotool key --delay 50 Right Right Page_Up Right Up Up F12 Escape
+wait "$viewer" || { cat run/view.log; fail "the viewer exited with an error"; }
+viewer=
+cat run/view.log
+
+grep -q " screenshot$" run/input.txt || fail "no screenshot in the recording (keys not delivered?)"
+grep -q " orbit " run/input.txt || fail "no orbit in the recording (keys not delivered?)"
+shot=$(ls run/shots/pem_*.png | grep -v _window | head -1)
+frame=$(basename "$shot" .png | sed 's/pem_//')
+[ -f "run/shots/pem_${frame}_window.png" ] || fail "no window screenshot"
+
+# ---- headless replay -----------------------------------------------------------------------
+"$rg" view pem --replay run/input.txt --headless --out run/replay ||
+    fail "headless replay differs from the window (frame hashes above)"
+"$compare" "$shot" "run/replay/screenshot_${frame}.png" ||
+    fail "screenshot framebuffer != headless frame $frame; reproduce: $rg view pem --replay $work/run/input.txt --headless --out /tmp/replay"
+"$compare" "run/shots/pem_${frame}_window.png" "run/replay/screenshot_${frame}.png" --rgb --crop 640 480 ||
+    fail "window pixels over the framebuffer region != emulated framebuffer RGB"
+echo "PASS: window frame $frame == headless replay, $(grep -c hash run/input.txt) frame hashes equal"
