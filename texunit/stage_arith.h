@@ -233,6 +233,17 @@ struct Regs {
 [[gnu::always_inline]] inline __m128i load(const std::array<Rgba8, 4>& v) {
     return _mm_loadu_si128(reinterpret_cast<const __m128i*>(v.data()));
 }
+// The same 16 bytes as four 4-byte loads: for data the rasterizer has just written pixel by
+// pixel, where one 16-byte load would wait for the stores to retire (no store forwarding
+// from several smaller stores into one wider load).
+[[gnu::always_inline]] inline __m128i loadPixels(const std::array<Rgba8, 4>& v) {
+    auto px = [&](int p) {
+        int32_t x;
+        std::memcpy(&x, &v[size_t(p)], 4);
+        return _mm_cvtsi32_si128(x);
+    };
+    return _mm_unpacklo_epi64(_mm_unpacklo_epi32(px(0), px(1)), _mm_unpacklo_epi32(px(2), px(3)));
+}
 [[gnu::always_inline]] inline void store(std::array<Rgba8, 4>& v, __m128i x) {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(v.data()), x);
 }

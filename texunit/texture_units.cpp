@@ -373,8 +373,8 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
         // the compiled samplers where the state has one; fetches added once per quad.
         namespace q = detail::quad;
         q::Regs r;
-        r.diffuse = q::load(quad.diffuse);
-        r.specular = q::load(quad.specular);
+        r.diffuse = q::loadPixels(quad.diffuse);
+        r.specular = q::loadPixels(quad.specular);
         r.current = r.diffuse;
         r.tfactor = q::splat(tfactor_);
         __m128i premod = q::ones();
