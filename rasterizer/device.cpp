@@ -17,6 +17,7 @@
 #include "device_impl.h"
 #include "pipeline.h"
 #include "raster_tiles.h"
+#include "rasterizer/trace.h"
 
 namespace rg::raster {
 
@@ -219,6 +220,9 @@ void Device::setTransforms(const glm::mat4& world, const glm::mat4& view,
     impl_->view = view;
     impl_->projection = projection;
 }
+const glm::mat4& Device::world() const { return impl_->world; }
+const glm::mat4& Device::view() const { return impl_->view; }
+const glm::mat4& Device::projection() const { return impl_->projection; }
 
 void Device::setViewport(const Viewport& v) {
     const Framebuffer& fb = impl_->fb;
@@ -251,6 +255,7 @@ tex::TextureUnits& Device::textureUnits() { return impl_->textureUnits; }
 const tex::TextureUnits& Device::textureUnits() const { return impl_->textureUnits; }
 
 void Device::beginFrame() {
+    if (impl_->recorder) impl_->recorder->beginFrame();
     impl_->endPass();
     impl_->counters = Counters{};
     impl_->textureUnits.resetCounters();
@@ -258,6 +263,7 @@ void Device::beginFrame() {
 }
 
 void Device::beginPass(std::string label) {
+    if (impl_->recorder) impl_->recorder->beginPass(label);
     impl_->endPass();
     impl_->passes.push_back(PassRecord{std::move(label), 0});
     impl_->passOpen = true;
@@ -272,10 +278,19 @@ void Device::setFragmentObserver(FragmentObserver observer) {
 void Device::setPassObserver(std::function<void(const PassRecord&, const Framebuffer&)> observer) {
     impl_->observer = std::move(observer);
 }
-void Device::endFrame() { impl_->endPass(); }
+void Device::endFrame() {
+    if (impl_->recorder) impl_->recorder->endFrame();
+    impl_->endPass();
+}
+
+void Device::setRecorder(std::shared_ptr<TraceRecorder> recorder) {
+    if (recorder) recorder->attach(*this);
+    impl_->recorder = std::move(recorder);
+}
 
 void Device::draw(Primitive primitive, VertexSpace space, std::span<const Vertex> vertices,
                   std::span<const uint32_t> indices) {
+    if (impl_->recorder) impl_->recorder->draw(*this, primitive, space, vertices, indices);
     impl_->draw(primitive, space, vertices, indices);
 }
 

@@ -30,6 +30,7 @@ struct Device::Impl {
     bool passOpen = false;
     std::function<void(const PassRecord&, const Framebuffer&)> observer;
     Device::FragmentObserver fragmentObserver;
+    std::shared_ptr<TraceRecorder> recorder;  // capture: fed at every command when set
     std::unique_ptr<tbb::task_arena> arena;
     // Per-draw scratch kept between draws so that large frames do not page-fault fresh
     // memory on every call; contents never carry over.

@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "device_impl.h"
+#include "rasterizer/trace.h"
 #include "rasterizer/device.h"
 #include "rasterizer/fragment_ops.h"
 
@@ -31,6 +32,7 @@ void checkSize(const char* what, int width, int height) {
 // the scissor test is on. Colour is written whole (D3D7 Clear ignores the write mask);
 // depth is quantized like a fragment's.
 void Device::clear(bool color, Rgba8 colorValue, bool depth, float depthValue) {
+    if (impl_->recorder) impl_->recorder->clear(*this, color, colorValue, depth, depthValue);
     if (depth && !(depthValue >= 0.0f && depthValue <= 1.0f))
         throw InvalidState("depth clear value " + std::to_string(depthValue) +
                            " is not inside [0, 1]");
@@ -58,6 +60,7 @@ void Device::clear(bool color, Rgba8 colorValue, bool depth, float depthValue) {
 // pixels outside the target are discarded (the raster position is inside it or the
 // draw is clipped, as glDrawPixels clips fragments to the window).
 void Device::drawPixels(int x, int y, int width, int height, std::span<const Rgba8> pixels) {
+    if (impl_->recorder) impl_->recorder->drawPixels(*this, x, y, width, height, pixels);
     checkSize("drawPixels", width, height);
     if (pixels.size() != size_t(width) * size_t(height))
         throw InvalidState("drawPixels: " + std::to_string(pixels.size()) + " pixels for a " +
@@ -88,6 +91,14 @@ void Device::copyPixels(int srcX, int srcY, int width, int height, int dstX, int
     std::vector<Rgba8> src(size_t(width) * size_t(height));
     for (int j = 0; j < height; ++j)
         for (int i = 0; i < width; ++i) src[size_t(j) * width + i] = fb.pixel(srcX + i, srcY + j);
+    // Captured as one CopyPixels, not as the drawPixels it is made of.
+    std::shared_ptr<TraceRecorder> recorder = std::move(impl_->recorder);
+    if (recorder) recorder->copyPixels(*this, srcX, srcY, width, height, dstX, dstY);
+    struct Restore {
+        std::shared_ptr<TraceRecorder>& slot;
+        std::shared_ptr<TraceRecorder>& saved;
+        ~Restore() { slot = std::move(saved); }
+    } restore{impl_->recorder, recorder};
     drawPixels(dstX, dstY, width, height, src);
 }
 
@@ -102,6 +113,7 @@ std::vector<Rgba8> Device::readPixels(int x, int y, int width, int height) {
     for (int j = 0; j < height; ++j)
         for (int i = 0; i < width; ++i) out[size_t(j) * width + i] = fb.pixel(x + i, y + j);
     impl_->counters.bytesReadBack += out.size() * sizeof(Rgba8);
+    if (impl_->recorder) impl_->recorder->readPixels(x, y, width, height, out);
     return out;
 }
 

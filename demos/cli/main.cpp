@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "conformance/trace_commands.h"
 #include "core/profile.h"
 #include "raycore/raytrace_command.h"
 #include "reproductions.h"
@@ -187,6 +188,8 @@ int main(int argc, char** argv) {
     viewCmd->add_option("--frames", view.maxFrames, "quit after this many frames (0: when closed)");
     viewCmd->footer(rg::viewer::bindingsHelp());
 
+    rg::conformance::TraceCommands traceCommands(app);  // replay, conform
+
     std::vector<std::string> testArgs;
     auto* test = app.add_subcommand("test", "run the whole test suite through CTest");
     test->add_option("ctest-args", testArgs, "extra arguments for ctest (e.g. -R blend)");
@@ -205,6 +208,7 @@ int main(int argc, char** argv) {
         if (*profiles) return runProfiles();
         if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, g);
         if (*test) return runTests(testArgs, g);
+        if (traceCommands.parsed()) return traceCommands.run(g.threads, g.path);
         if (*viewCmd) {
             view.threads = g.threads;
             return rg::viewer::runView(view);

@@ -32,6 +32,8 @@
 
 namespace rg::raster {
 
+class TraceRecorder;  // rasterizer/trace.h
+
 struct DeviceOptions {
     Path path = Path::Fast;
     int threads = 0;  // 0: all cores
@@ -62,6 +64,9 @@ class Device {
     void setState(const PipelineState& state);  // validated at draw time
     const PipelineState& state() const;
     void setTransforms(const glm::mat4& world, const glm::mat4& view, const glm::mat4& projection);
+    const glm::mat4& world() const;
+    const glm::mat4& view() const;
+    const glm::mat4& projection() const;
     void setViewport(const Viewport& viewport);  // throws for zero size or outside the target
     void setScissor(const Rect& rect);
     const Viewport& viewport() const;
@@ -85,6 +90,10 @@ class Device {
     using FragmentObserver = std::function<void(const tex::FragmentQuad&, uint8_t passed)>;
     void setFragmentObserver(FragmentObserver observer);
     void endFrame();
+    // Capture (rasterizer/trace.h, docs/trace-format.md): from now on every command is
+    // recorded with the state it reads. Attaching writes the profile, the framebuffer
+    // size and its current contents; nullptr detaches (the recorder keeps its bytes).
+    void setRecorder(std::shared_ptr<TraceRecorder> recorder);
 
     // ---- commands -----------------------------------------------------------------------
     // Clears colour and/or depth inside the viewport (and scissor when enabled).

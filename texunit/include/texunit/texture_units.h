@@ -98,6 +98,9 @@ class TextureUnits {
     const SamplerState& sampler(int stage) const;
     // SGI_texture_color_table of a unit (nullptr disables it).
     void setColorTable(int stage, std::shared_ptr<const ColorTable> table);
+    const std::shared_ptr<const ColorTable>& colorTable(int stage) const {
+        return units_[size_t(stage)].colorTable;
+    }
     // D3DRENDERSTATE_TEXTUREFACTOR; on the OpenGL profiles the TEXTURE_ENV_COLOR.
     void setTextureFactor(Rgba8 factor);
     Rgba8 textureFactor() const { return tfactor_; }

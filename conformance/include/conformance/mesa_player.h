@@ -1,0 +1,34 @@
+// The Mesa peer of a trace replay: the same records through OSMesa's fixed-function
+// OpenGL (llvmpipe), with Direct3D 7 state mapped to GL 1.3 (+ the GL 1.4 blend
+// equations, mirrored repeat, LOD bias, window position and secondary colour that Mesa
+// has). See docs/testing.md, "Conformance against Mesa".
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rasterizer/framebuffer.h"
+#include "rasterizer/trace.h"
+
+namespace rg::conformance {
+
+// Empty when GL 1.3 can express every record of the trace; otherwise why it cannot
+// (pixel texture, colour tables, 4D textures, a stage op without a combine twin, ...).
+std::string mesaUnsupported(const raster::Trace& trace);
+
+struct MesaReplay {
+    std::string unsupported;          // non-empty: not played
+    raster::Framebuffer framebuffer;  // RGBA8, rows top to bottom as ours
+    std::string renderer;             // GL_RENDERER
+};
+
+// Plays the trace in a child process (OSMesa must not share a process with threads that
+// later fork, and llvmpipe's thread count is per process): the child creates the
+// context, plays, sends the pixels back and exits.
+MesaReplay replayOnMesa(const raster::Trace& trace);
+
+// `retroglass conform`: every golden trace on ours and on Mesa; prints a table and
+// returns non-zero when a trace exceeds its tolerance.
+int runConform(const std::string& goldenDir);
+
+}  // namespace rg::conformance

@@ -1,0 +1,73 @@
+// `retroglass replay FILE` plays a trace and prints the SHA-256 of the raw framebuffer
+// bytes; `retroglass conform` compares our replay of every golden trace with Mesa's.
+#include "conformance/trace_commands.h"
+
+#include <CLI/CLI.hpp>
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+
+#include "conformance/mesa_player.h"
+#include "core/error.h"
+#include "rasterizer/trace.h"
+
+namespace rg::conformance {
+
+namespace {
+
+void writePng(const std::string& file, const raster::Framebuffer& fb) {
+    auto out = OIIO::ImageOutput::create(file);
+    if (!out) throw Error("cannot write image '" + file + "': " + OIIO::geterror());
+    OIIO::ImageSpec spec(fb.width(), fb.height(), 4, OIIO::TypeDesc::UINT8);
+    if (!out->open(file, spec) || !out->write_image(OIIO::TypeDesc::UINT8, fb.color().data()))
+        throw Error("cannot write image '" + file + "': " + out->geterror());
+    out->close();
+}
+
+}  // namespace
+
+TraceCommands::TraceCommands(CLI::App& app) {
+    replay_ = app.add_subcommand("replay", "replay a captured trace (docs/trace-format.md) and print "
+                                           "the SHA-256 of the raw framebuffer bytes");
+    replay_->add_option("file", file_, "the .trace file")->required();
+    replay_->add_option("--out", out_, "write the framebuffer as a PNG");
+    replay_->add_option("--pass", pass_, "stop when pass K (from 0) ends: the state after it");
+    replay_->add_option("--backend", backend_, "ours (the emulation) or mesa (OSMesa llvmpipe, GL 1.3)")
+        ->check(CLI::IsMember({"ours", "mesa"}));
+    conform_ = app.add_subcommand("conform", "replay every golden trace on ours and on Mesa and "
+                                             "compare against the tolerances of docs/hardware.md");
+    conform_->add_option("--golden", goldenDir_, "folder of golden traces (default tests/golden)");
+}
+
+bool TraceCommands::parsed() const { return replay_->parsed() || conform_->parsed(); }
+
+int TraceCommands::run(int threads, const std::string& path) const {
+    if (conform_->parsed()) return runConform(goldenDir_.empty() ? std::string(RETROGLASS_SOURCE_DIR "/tests/golden") : goldenDir_);
+    const raster::Trace trace = raster::readTraceFile(file_);
+    raster::Framebuffer fb;
+    if (backend_ == "mesa") {
+        if (pass_ >= 0) throw Error("--pass is not supported with --backend mesa");
+        MesaReplay m = replayOnMesa(trace);
+        if (!m.unsupported.empty()) {
+            std::fprintf(stderr, "retroglass: Mesa cannot play this trace: %s\n", m.unsupported.c_str());
+            return 4;
+        }
+        fb = std::move(m.framebuffer);
+    } else {
+        raster::ReplayOptions o;
+        o.path = path == "reference" ? Path::Reference : Path::Fast;
+        o.threads = threads;
+        o.stopAfterPass = pass_;
+        raster::ReplayResult r = raster::replayTrace(trace, o);
+        if (r.readBacks)
+            std::printf("read-backs: %d, %d differing from the capture\n", r.readBacks, r.readBackMismatches);
+        fb = std::move(r.framebuffer);
+    }
+    if (!out_.empty()) writePng(out_, fb);
+    std::printf("%s  %s (%s, %dx%d%s)\n", raster::framebufferHash(fb).c_str(), file_.c_str(),
+                trace.profile.c_str(), fb.width(), fb.height(),
+                pass_ >= 0 ? (", after pass " + std::to_string(pass_)).c_str() : "");
+    return 0;
+}
+
+}  // namespace rg::conformance
