@@ -81,13 +81,21 @@ inline int32_t log2FixedInline(float x) {
     return l >> (23 - kLodFracBits);  // arithmetic shift: floor
 }
 
-// quadLambda (sampler.h) inline for 1 or 2 dimensions: u = (s, t) of pixels 0, 1, 2
-// (x neighbour 1, y neighbour 2), n = the level-base extents as floats.
-inline int32_t quadLambdaInline(const float u[2][3], const float n[2], int dims) {
+// quadLambda (sampler.h) inline for 1 or 2 dimensions: (s, t) of pixels 0, 1 (x
+// neighbour) and 2 (y neighbour), n0/n1 the level-base extents as floats. Scalars rather
+// than an array, so the per-quad callers keep them in registers.
+inline int32_t quadLambdaInline(float s0, float s1, float s2, float t0, float t1, float t2,
+                                float n0, float n1, int dims) {
     float dx2 = 0.0f, dy2 = 0.0f;
-    for (int d = 0; d < dims; ++d) {
-        const float dx = (u[d][1] - u[d][0]) * n[d];
-        const float dy = (u[d][2] - u[d][0]) * n[d];
+    {
+        const float dx = (s1 - s0) * n0;
+        const float dy = (s2 - s0) * n0;
+        dx2 = dx2 + dx * dx;
+        dy2 = dy2 + dy * dy;
+    }
+    if (dims > 1) {
+        const float dx = (t1 - t0) * n1;
+        const float dy = (t2 - t0) * n1;
         dx2 = dx2 + dx * dx;
         dy2 = dy2 + dy * dy;
     }

@@ -148,6 +148,10 @@ inline __m128i packQuad(const __m128i v[4]) {
 }
 
 // ---- projection and λ, as TextureUnits::projectQuad -----------------------------------
+template <int kLane>
+inline float lane(__m128 v) {
+    return _mm_cvtss_f32(_mm_shuffle_ps(v, v, _MM_SHUFFLE(kLane, kLane, kLane, kLane)));
+}
 inline __m128 flipSign(__m128 v) { return _mm_xor_ps(v, _mm_set1_ps(-0.0f)); }
 inline __m128 select(__m128 mask, __m128 a, __m128 b) {  // mask ? a : b
     return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
@@ -191,21 +195,19 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
         _mm_storeu_si128(reinterpret_cast<__m128i*>(face),
                          _mm_add_epi32(fi, _mm_andnot_si128(_mm_castps_si128(pos), _mm_set1_epi32(1))));
         // λ from all four pixels measured on pixel 0's face.
-        alignas(16) float sv[4], tv[4];
-        _mm_store_ps(sv, s);
-        _mm_store_ps(tv, t);
-        float u[2][3];
-        for (int p = 0; p < 3; ++p) {
-            if (face[p] == face[0]) {
-                u[0][p] = sv[p];
-                u[1][p] = tv[p];
-            } else {
-                const CubeCoord cc = detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[size_t(p)]));
-                u[0][p] = cc.s;
-                u[1][p] = cc.t;
-            }
+        float s1 = lane<1>(s), t1 = lane<1>(t), s2 = lane<2>(s), t2 = lane<2>(t);
+        if (face[1] != face[0]) {
+            const CubeCoord cc = detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[1]));
+            s1 = cc.s;
+            t1 = cc.t;
         }
-        lambda = quadLambdaInline(u, qs.baseSizeF, 2);
+        if (face[2] != face[0]) {
+            const CubeCoord cc = detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[2]));
+            s2 = cc.s;
+            t2 = cc.t;
+        }
+        lambda = quadLambdaInline(lane<0>(s), s1, s2, lane<0>(t), t1, t2, qs.baseSizeF[0],
+                                  qs.baseSizeF[1], 2);
     } else {
         if (qs.projected) {
             x = _mm_div_ps(x, w);
@@ -213,12 +215,10 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
         }
         s = x;
         t = y;
-        alignas(16) float sv[4], tv[4];
-        _mm_store_ps(sv, s);
-        _mm_store_ps(tv, t);
-        const float u[2][3] = {{sv[0], sv[1], sv[2]}, {tv[0], tv[1], tv[2]}};
         for (int p = 0; p < 4; ++p) face[p] = 0;
-        lambda = quadLambdaInline(u, qs.baseSizeF, kTarget == Target::OneD ? 1 : 2);
+        lambda = quadLambdaInline(lane<0>(s), lane<1>(s), lane<2>(s), lane<0>(t), lane<1>(t),
+                                  lane<2>(t), qs.baseSizeF[0], qs.baseSizeF[1],
+                                  kTarget == Target::OneD ? 1 : 2);
     }
     return std::clamp(lambda + qs.lodBias, qs.lodMin, qs.lodMax);
 }
