@@ -26,6 +26,7 @@ struct GlobalOptions {
     int threads = 0;
     std::string path = "fast";
     bool stats = false;
+    std::string capture;
 };
 
 int hardwareThreads() {
@@ -91,6 +92,7 @@ int runReproduce(const std::string& name, const std::string& quality, const std:
     base.stats = g.stats;
     base.scene = scene;
     base.views = views;
+    base.capture = g.capture;
 
     bool any = false, known = false;
     int status = 0;
@@ -147,6 +149,9 @@ int main(int argc, char** argv) {
                    "scalar code that reads like docs/hardware.md); both give the same bytes")
         ->check(CLI::IsMember({"fast", "reference"}));
     app.add_flag("--stats", g.stats, "print the emulated device's per-frame counters");
+    app.add_option("--capture", g.capture,
+                   "record the frame a reproduction times as a trace (docs/trace-format.md; "
+                   "play it with `retroglass replay FILE`)");
 
     auto* profiles = app.add_subcommand("profiles", "print every hardware profile and its limits");
 

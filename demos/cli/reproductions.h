@@ -18,6 +18,7 @@ struct ReproduceOptions {
     bool stats = false;            // --stats: print the emulated device's counters
     std::string scene;             // --scene FILE, empty for the built-in scene
     std::string views;             // --views A:B, empty for all
+    std::string capture;           // --capture FILE: record the timed viewer frame as a trace
 };
 
 struct Reproduction {

@@ -22,6 +22,7 @@
 #include "raycore/builtin_scenes.h"
 #include "raycore/metrics.h"
 #include "raycore/scene_json.h"
+#include "rasterizer/trace.h"
 
 namespace fs = std::filesystem;
 
@@ -365,10 +366,25 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
                 ray::Camera cam = ray::cameraOnCircle(
                     path.center, path.radius, path.height,
                     angleK + (blendedRun ? 0.5f : 0.0f) * S.stepDegrees, path.fovYDegrees);
+                // --capture FILE (issue 8, docs/trace-format.md): the warm-up frame of the
+                // on-manifold run is recorded; it is the frame the loop then times, and the
+                // untimed warm-up keeps the recording out of the timings.
+                std::shared_ptr<raster::TraceRecorder> capture;
+                if (f == 0 && !blendedRun && !options.capture.empty()) {
+                    capture = std::make_shared<raster::TraceRecorder>();
+                    vdev.setRecorder(capture);
+                }
                 auto t0 = Clock::now();
                 FrameTiming t = blendedRun ? vr.render(cam, EmMode::Layered, a, &b, 0.5f)
                                            : vr.render(cam, EmMode::Layered, a);
                 double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+                if (capture) {
+                    vdev.setRecorder(nullptr);
+                    capture->save(options.capture);
+                    std::printf("pem: captured the viewer frame into %s (%zu bytes, sha256 %s)\n",
+                                options.capture.c_str(), capture->bytes().size(),
+                                raster::framebufferHash(vdev.framebuffer()).c_str());
+                }
                 if (f == 0) continue;  // warm-up
                 texgen += t.texgenMs;
                 frame += ms;
