@@ -186,7 +186,7 @@ void ViewerSession::apply(const Action& a) {
                 makeDevice(a.name);
                 // Draw once so that a profile the demo cannot run on is refused here.
                 demo_->render(*device_, camera_.camera());
-            } catch (const Error&) {
+            } catch (...) {
                 device_ = std::move(old);
                 profile_ = oldName;
                 demo_->render(*device_, camera_.camera());  // rebinds the demo

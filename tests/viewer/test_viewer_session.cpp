@@ -165,3 +165,130 @@ TEST(ViewerGamepadActions, SticksAndButtonEdges) {
     EXPECT_EQ(a[1].kind, Action::Kind::Raise);
     EXPECT_LT(a[1].x, 0.0f);
 }
+
+// ---- a demo that is not PEM: the viewer session drives it unchanged ------------------------
+
+namespace {
+
+// Two passes: a flat triangle, then the same triangle added over itself (ONE/ONE) when
+// `double` is on. Its colour is the `red` parameter.
+class TwoPassDemo final : public Demo {
+  public:
+    TwoPassDemo() {
+        Param red;
+        red.name = "red";
+        red.label = "red";
+        red.kind = Param::Kind::Int;
+        red.min = 0, red.max = 255, red.value = 100;
+        Param twice;
+        twice.name = "double";
+        twice.label = "add twice";
+        twice.kind = Param::Kind::Bool;
+        twice.value = 1;
+        params_ = {red, twice};
+    }
+    std::string name() const override { return "twopass"; }
+    std::string title() const override { return "a test demo"; }
+    std::string defaultProfile() const override { return "geforce256"; }
+    std::pair<int, int> frameSize() const override { return {64, 48}; }
+    OrbitRig rig() const override {
+        OrbitRig r;
+        r.start = rg::ray::cameraOnCircle({0, 0, 0}, 5, 1, 30);
+        return r;
+    }
+    std::vector<ViewpointSample> viewpointSamples() const override {
+        return {{"a", rg::ray::cameraOnCircle({0, 0, 0}, 5, 1, 0)},
+                {"b", rg::ray::cameraOnCircle({0, 0, 0}, 5, 1, 90)}};
+    }
+    std::vector<Param>& params() override { return params_; }
+    std::vector<std::string> passDescriptions() const override { return {"flat", "added"}; }
+    FrameNotes render(rg::raster::Device& d, const rg::ray::Camera& camera) override {
+        using namespace rg::raster;
+        // The camera's azimuth moves the triangle, so camera actions change the bytes.
+        float shift = std::fmod(std::abs(camera.eye.x), 10.0f);
+        d.beginFrame();
+        d.clear(true, {0, 0, 0, 255}, true, 1.0f);
+        std::vector<Vertex> v(3);
+        v[0].position = {4 + shift, 4, 0.5f, 1};
+        v[1].position = {60, 8, 0.5f, 1};
+        v[2].position = {10, 44, 0.5f, 1};
+        for (auto& x : v) x.diffuse = {uint8_t(paramValue(params_, "red")), 20, 30, 255};
+        PipelineState s;
+        s.cull = CullMode::None;
+        s.depthTest = 0;
+        d.setState(s);
+        d.beginPass("flat");
+        d.draw(Primitive::TriangleList, VertexSpace::Pretransformed, v);
+        if (paramValue(params_, "double") != 0) {
+            d.beginPass("added");
+            s.blend = 1;
+            s.srcBlend = BlendFactor::One;
+            s.dstBlend = BlendFactor::One;
+            d.setState(s);
+            d.draw(Primitive::TriangleList, VertexSpace::Pretransformed, v);
+        }
+        d.endFrame();
+        return {{"shift", std::to_string(shift)}};
+    }
+
+  private:
+    std::vector<Param> params_;
+};
+
+}  // namespace
+
+TEST(ViewerSessionAnyDemo, PassSnapshotsCarryTheStateThatDrewThem) {
+    ViewerSession s(std::make_unique<TwoPassDemo>(), "", 1);
+    s.render(true);
+    const auto& snaps = s.passSnapshots();
+    ASSERT_EQ(snaps.size(), 2u);
+    EXPECT_EQ(snaps[0].record.label, "flat");
+    EXPECT_NE(snaps[0].state.find("blend off"), std::string::npos) << snaps[0].state;
+    EXPECT_NE(snaps[1].state.find("blend ONE / ONE"), std::string::npos) << snaps[1].state;
+    EXPECT_NE(snaps[1].state.find("profile geforce256"), std::string::npos);
+    // After pass 1 the triangle is red 100; after pass 2, 200 (the final frame).
+    const auto& fb = s.device().framebuffer();
+    EXPECT_EQ(snaps[0].color[size_t(20 * 64 + 20)].r, 100);
+    EXPECT_EQ(snaps[1].color[size_t(20 * 64 + 20)].r, 200);
+    EXPECT_EQ(fb.pixel(20, 20).r, 200);
+    s.render(false);
+    EXPECT_TRUE(s.passSnapshots().empty());
+}
+
+TEST(ViewerSessionAnyDemo, SameActionsSameBytesAnyThreadCount) {
+    std::vector<Action> actions = {{Action::Kind::Orbit, 12.5f, 3, 0, ""},
+                                   {Action::Kind::Param, 0, 0, 77, "red"},
+                                   {Action::Kind::Step, 0, 0, 1, ""},
+                                   {Action::Kind::Dolly, 0.8f, 0, 0, ""}};
+    ViewerSession a(std::make_unique<TwoPassDemo>(), "", 1);
+    ViewerSession b(std::make_unique<TwoPassDemo>(), "", 4);
+    a.render(false);
+    const uint64_t first = a.frameHash();
+    for (const Action& x : actions) a.apply(x), b.apply(x);
+    b.apply({Action::Kind::Threads, 0, 0, 2, ""});
+    a.render(false);
+    b.render(true);
+    EXPECT_EQ(a.frameHash(), b.frameHash());
+    EXPECT_NE(a.frameHash(), first);
+    EXPECT_EQ(a.device().framebuffer().pixel(20, 20).r, 154);
+    // Unknown parameters and profiles are refused; the session stays usable.
+    EXPECT_THROW(a.apply({Action::Kind::Param, 0, 0, 1, "nope"}), rg::Error);
+    EXPECT_ANY_THROW(a.apply({Action::Kind::Profile, 0, 0, 0, "no-such-machine"}));
+    EXPECT_EQ(a.profile(), "geforce256");
+    a.render(false);
+    EXPECT_EQ(a.frameHash(), b.frameHash());
+}
+
+TEST(ViewerSessionAnyDemo, StepAndNearestReachTheSamples) {
+    ViewerSession s(std::make_unique<TwoPassDemo>(), "", 1);
+    s.apply({Action::Kind::Sample, 0, 0, 1, ""});
+    EXPECT_EQ(s.nearestSample(), 1);
+    EXPECT_NEAR(s.camera().azimuthDegrees, 90.0f, 1e-3f);
+    s.apply({Action::Kind::Step, 0, 0, 1, ""});      // wraps to 0
+    EXPECT_EQ(s.nearestSample(), 0);
+    s.apply({Action::Kind::Orbit, 80, 0, 0, ""});
+    s.apply({Action::Kind::Nearest, 0, 0, 0, ""});
+    EXPECT_NEAR(s.camera().azimuthDegrees, 90.0f, 1e-3f);
+    s.apply({Action::Kind::Reset, 0, 0, 0, ""});
+    EXPECT_NEAR(s.camera().azimuthDegrees, 30.0f, 1e-3f);
+}
