@@ -115,7 +115,6 @@ FrameTiming PemRenderer::render(const ray::Camera& camera, EmMode mode, const Pe
     if (mode == EmMode::Static && b) throw Error("PEM: a static EM has no second sample");
     device_.beginFrame();
     setCameraTransforms(camera);
-    device_.setPassObserver({});
     raster::PipelineState st;
     // Back faces culled, as a Direct3D 7 application would: the mesh winds counter-
     // clockwise seen from outside, which is clockwise in window space (y down).

@@ -126,7 +126,7 @@ int runWindow(ViewerSession& session, const ViewOptions& o) {
 
     while (running) {
         std::vector<Action> actions;
-        bool screenshot = false;
+        bool screenshot = false, inspectorToggled = false;
         // ---- events -----------------------------------------------------------------------
         SDL_Event e;
         while (SDL_PollEvent(&e)) {
@@ -157,7 +157,10 @@ int runWindow(ViewerSession& session, const ViewOptions& o) {
                     case SDLK_TAB: showPanel = !showPanel; break;
                     case SDLK_F12:
                     case SDLK_p: screenshot = true; break;
-                    case SDLK_i: inspector = !inspector; break;
+                    case SDLK_i:
+                        inspector = !inspector;
+                        inspectorToggled = true;
+                        break;
                     case SDLK_COMMA: inspectPass = std::max(0, inspectPass - 1); break;
                     case SDLK_PERIOD: ++inspectPass; break;
                     default: break;
@@ -279,6 +282,22 @@ int runWindow(ViewerSession& session, const ViewOptions& o) {
                 ImGui::SameLine();
                 if (ImGui::Button("screenshot")) screenshot = true;
             }
+            if (inspectorToggled) ImGui::SetNextItemOpen(inspector, ImGuiCond_Always);
+            if (ImGui::CollapsingHeader("Pass inspector")) {
+                ImGui::Checkbox("inspect passes (I)", &inspector);
+                const auto& snaps = session.passSnapshots();
+                if (inspector && !snaps.empty()) {
+                    inspectPass = std::clamp(inspectPass, 0, int(snaps.size()) - 1);
+                    int shown = inspectPass + 1;
+                    if (ImGui::SliderInt("after pass", &shown, 1, int(snaps.size()))) inspectPass = shown - 1;
+                    const PassSnapshot& s = snaps[size_t(inspectPass)];
+                    ImGui::TextWrapped("%s (%" PRIu64 " draws)", s.record.label.c_str(), s.record.drawCalls);
+                    ImGui::PushTextWrapPos(0.0f);
+                    ImGui::TextUnformatted(s.state.c_str());
+                    ImGui::PopTextWrapPos();
+                }
+                for (const std::string& d : session.demo().passDescriptions()) ImGui::TextWrapped("- %s", d.c_str());
+            }
             if (ImGui::CollapsingHeader("HUD", ImGuiTreeNodeFlags_DefaultOpen)) {
                 ImGui::Text("frame %" PRId64 "   %.1f FPS   emulated frame %.2f ms", frame, hud.fps(),
                             session.frameMs());
@@ -302,19 +321,6 @@ int runWindow(ViewerSession& session, const ViewOptions& o) {
                 ImGui::Text("gamepad: %s", gamepad.status().c_str());
                 if (!o.record.empty()) ImGui::Text("recording to %s", o.record.c_str());
                 if (replay) ImGui::Text("replaying %s", o.replay.c_str());
-            }
-            if (ImGui::CollapsingHeader("Pass inspector")) {
-                ImGui::Checkbox("inspect passes (I)", &inspector);
-                const auto& snaps = session.passSnapshots();
-                if (inspector && !snaps.empty()) {
-                    inspectPass = std::clamp(inspectPass, 0, int(snaps.size()) - 1);
-                    int shown = inspectPass + 1;
-                    if (ImGui::SliderInt("after pass", &shown, 1, int(snaps.size()))) inspectPass = shown - 1;
-                    const PassSnapshot& s = snaps[size_t(inspectPass)];
-                    ImGui::TextWrapped("%s (%" PRIu64 " draws)", s.record.label.c_str(), s.record.drawCalls);
-                    ImGui::TextUnformatted(s.state.c_str());
-                }
-                for (const std::string& d : session.demo().passDescriptions()) ImGui::TextWrapped("- %s", d.c_str());
             }
             if (ImGui::CollapsingHeader("Bindings")) {
                 for (const auto& [k, v] : keyBindings()) ImGui::BulletText("%s: %s", k.c_str(), v.c_str());
