@@ -45,7 +45,7 @@ echo "Xvfb on $DISPLAY"
 
 # ---- the window, driven by keys ------------------------------------------------------------
 # --frames bounds the run should the keys never arrive (then the checks below fail).
-"$rg" view pem --record run/input.txt --shots run/shots --frames 2000 >run/view.log 2>&1 &
+"$rg" view pem --record run/input.txt --shots run/shots --frames 600 >run/view.log 2>&1 &
 viewer=$!
 wid=$(xdotool search --sync --name "retroglass view pem" | head -1)
 [ -n "$wid" ] || fail "no viewer window appeared"
