@@ -105,6 +105,46 @@ inline int32_t quadLambdaInline(float s0, float s1, float s2, float t0, float t1
     return l <= kLambdaZero ? kLambdaZero : (l >> 1);
 }
 
+// What chooseLevels needs of the texture and sampler, derived once per state.
+struct LevelParams {
+    int base, q;  // level base and the last level the chain may reach
+    int32_t c;    // magnification threshold
+    FilterMode mag, min;
+    MipMode mip;
+};
+inline LevelParams levelParams(int levels, const SamplerState& s) {
+    const int last = levels - 1;
+    const int base = std::clamp(s.baseLevel, 0, last);
+    const int q = std::max(base, std::min(last, s.maxLevel));
+    // GL 1.2 §3.8.8: c = 0.5 when magnifying LINEAR against a NEAREST_MIPMAP_* min filter,
+    // so that the switch-over is continuous; 0 otherwise.
+    const int32_t c = (s.magFilter == FilterMode::Linear && s.minFilter == FilterMode::Nearest &&
+                       s.mipFilter != MipMode::None)
+                          ? kLodOne / 2
+                          : 0;
+    return {base, q, c, s.magFilter, s.minFilter, s.mipFilter};
+}
+// chooseLevels (sampler.h) inline: GL 1.2 §3.8.8.
+inline LevelChoice chooseLevelsInline(const LevelParams& p, int32_t lambda) {
+    const int base = p.base, q = p.q;
+    if (lambda <= p.c) return {p.mag, base, base, 0, false};
+    switch (p.mip) {
+        case MipMode::None: return {p.min, base, base, 0, false};
+        case MipMode::Nearest: {
+            // d = ceil(λ + ½) − 1: half-integer λ rounds down.
+            int64_t d = int64_t(base) + ((int64_t(lambda) + (kLodOne / 2 - 1)) >> kLodFracBits);
+            int lvl = int(std::min<int64_t>(d, q));
+            return {p.min, lvl, lvl, 0, false};
+        }
+        case MipMode::Linear: {
+            if (int64_t(lambda) >= int64_t(q - base) * kLodOne) return {p.min, q, q, 0, false};
+            int d1 = base + (lambda >> kLodFracBits);
+            return {p.min, d1, d1 + 1, lambda & (kLodOne - 1), true};
+        }
+    }
+    return {p.mag, base, base, 0, false};
+}
+
 // One axis of a filter footprint: 1 tap (nearest, weight 1) or 2 taps (linear, weights
 // out of 2^kSubTexelBits).
 struct AxisFootprint {

@@ -39,7 +39,7 @@ enum class Addr : uint8_t { Edge, Pow2 };
 struct Axis4 {
     alignas(16) int32_t i0[4];
     alignas(16) int32_t i1[4];
-    alignas(16) int32_t frac[4];
+    alignas(16) int32_t weights[4];  // (256 − α) | α << 16: the int16 pair of weightPair(α)
 };
 
 template <Addr kA>
@@ -69,8 +69,10 @@ template <Addr kA>
 inline void linearAxis4(__m128 c, int32_t n, Axis4& out) {
     const __m128i u = _mm_sub_epi32(subTexel4(c, n), _mm_set1_epi32(1 << (kSubTexelBits - 1)));
     const __m128i b = _mm_srai_epi32(u, kSubTexelBits);
-    _mm_store_si128(reinterpret_cast<__m128i*>(out.frac),
-                    _mm_and_si128(u, _mm_set1_epi32((1 << kSubTexelBits) - 1)));
+    const __m128i frac = _mm_and_si128(u, _mm_set1_epi32((1 << kSubTexelBits) - 1));
+    _mm_store_si128(reinterpret_cast<__m128i*>(out.weights),
+                    _mm_or_si128(_mm_slli_epi32(frac, 16),
+                                 _mm_sub_epi32(_mm_set1_epi32(1 << kSubTexelBits), frac)));
     _mm_store_si128(reinterpret_cast<__m128i*>(out.i0), address4<kA>(b, n));
     _mm_store_si128(reinterpret_cast<__m128i*>(out.i1),
                     address4<kA>(_mm_add_epi32(b, _mm_set1_epi32(1)), n));
@@ -95,16 +97,18 @@ inline __m128i weightPair(int32_t w) {
 // Interleaves the int16 lanes of p = (a0 a1 a2 a3 b0 b1 b2 b3) into (a0 b0 a1 b1 ...).
 inline __m128i interleaveHalves(__m128i p) { return _mm_unpacklo_epi16(p, _mm_srli_si128(p, 8)); }
 
-// Σ wx·(t − 128) over taps a (weight 256 − fx) and b (weight fx): R − 2^15 per channel.
-inline __m128i pairBiased(__m128i a, __m128i b, int32_t fx) {
+// Σ wx·(t − 128) over taps a (weight 256 − α) and b (weight α), `w` = weightPair(α):
+// R − 2^15 per channel.
+inline __m128i pairBiased(__m128i a, __m128i b, __m128i w) {
     const __m128i t = _mm_sub_epi16(_mm_unpacklo_epi8(_mm_unpacklo_epi8(a, b), _mm_setzero_si128()),
                                     _mm_set1_epi16(128));
-    return _mm_madd_epi16(t, weightPair(fx));
+    return _mm_madd_epi16(t, w);
 }
 
-// The bilinear sum S − 2^23 per channel over rows r0 (y0) and r1 (y1).
+// The bilinear sum S − 2^23 per channel over rows r0 (y0) and r1 (y1); wx, wy the
+// packed weight pairs (Axis4::weights).
 inline __m128i bilinearBiased(const Rgba8* r0, const Rgba8* r1, int32_t x0, int32_t x1,
-                              int32_t fx, int32_t fy) {
+                              int32_t wxPair, int32_t wyPair) {
     const __m128i zero = _mm_setzero_si128();
     const __m128i row0 = _mm_unpacklo_epi8(load4(r0 + x0), load4(r0 + x1));
     const __m128i row1 = _mm_unpacklo_epi8(load4(r1 + x0), load4(r1 + x1));
@@ -112,9 +116,9 @@ inline __m128i bilinearBiased(const Rgba8* r0, const Rgba8* r1, int32_t x0, int3
     const __m128i k128 = _mm_set1_epi16(128);
     const __m128i t0 = _mm_sub_epi16(_mm_unpacklo_epi8(both, zero), k128);
     const __m128i t1 = _mm_sub_epi16(_mm_unpackhi_epi8(both, zero), k128);
-    const __m128i wx = weightPair(fx);
+    const __m128i wx = _mm_set1_epi32(wxPair);
     const __m128i p = _mm_packs_epi32(_mm_madd_epi16(t0, wx), _mm_madd_epi16(t1, wx));
-    return _mm_madd_epi16(interleaveHalves(p), weightPair(fy));
+    return _mm_madd_epi16(interleaveHalves(p), _mm_set1_epi32(wyPair));
 }
 
 // Rounded results (docs/hardware.md, "Filtering": ⌊(Σ + 2^(bits−1)) / 2^bits⌋), int32
@@ -229,7 +233,7 @@ uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>&
     __m128 s, t;
     int face[4];
     const int32_t lambda = projectQuad<kTarget>(qs, in, s, t, face);
-    const LevelChoice ch = chooseLevels(*qs.texture, qs.sampler, lambda);
+    const LevelChoice ch = chooseLevelsInline(qs.levels, lambda);
     const LevelView& L0 = qs.level[size_t(ch.level0)];
     const LevelView& L1 = qs.level[size_t(ch.level1)];
     __m128i v[4];
@@ -245,9 +249,10 @@ uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>&
                 if constexpr (kTwoD) {
                     sum[p] = bilinearBiased(base + size_t(ay.i0[p]) * size_t(L.width),
                                             base + size_t(ay.i1[p]) * size_t(L.width), ax.i0[p],
-                                            ax.i1[p], ax.frac[p], ay.frac[p]);
+                                            ax.i1[p], ax.weights[p], ay.weights[p]);
                 } else {
-                    sum[p] = pairBiased(load4(base + ax.i0[p]), load4(base + ax.i1[p]), ax.frac[p]);
+                    sum[p] = pairBiased(load4(base + ax.i0[p]), load4(base + ax.i1[p]),
+                                        _mm_set1_epi32(ax.weights[p]));
                 }
             }
         };
@@ -277,7 +282,8 @@ uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>&
     if (ch.blend) {
         const Rgba8* t1[4];
         texels(L1, t1);
-        for (int p = 0; p < 4; ++p) v[p] = finishPair(pairBiased(load4(t0[p]), load4(t1[p]), ch.frac));
+        const __m128i w = weightPair(ch.frac);
+        for (int p = 0; p < 4; ++p) v[p] = finishPair(pairBiased(load4(t0[p]), load4(t1[p]), w));
         out = packQuad(v);
     } else {
         out = _mm_unpacklo_epi64(_mm_unpacklo_epi32(load4(t0[0]), load4(t0[1])),
@@ -314,6 +320,7 @@ QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool pro
     q.baseSize = t.levelSize(base);
     q.baseSizeF[0] = float(q.baseSize[0]);
     q.baseSizeF[1] = float(q.baseSize[1]);
+    q.levels = levelParams(t.levels(), s);
     // biasAndClampLambda with its three conversions done once.
     q.lodBias = lodFixedFromFloat(s.lodBias);
     q.lodMin = lodFixedFromFloat(s.minLod);

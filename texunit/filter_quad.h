@@ -19,6 +19,7 @@
 
 #include <glm/vec4.hpp>
 
+#include "addressing.h"
 #include "core/color.h"
 #include "texunit/sampler.h"
 #include "texunit/texture.h"
@@ -48,6 +49,7 @@ struct QuadSampler {
     int32_t lodBias = 0, lodMin = 0, lodMax = 0;  // fixed point: λ' = clamp(λ + bias, min, max)
     std::array<int, 4> baseSize{1, 1, 1, 1};      // level-base extent (λ is measured in it)
     float baseSizeF[2] = {1.0f, 1.0f};             // the same as floats
+    LevelParams levels{};                          // chooseLevels' inputs
     std::array<LevelView, kMaxLevels> level{};
 };
 

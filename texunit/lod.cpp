@@ -40,31 +40,7 @@ int32_t biasAndClampLambda(int32_t lambda, const SamplerState& s) {
 }
 
 LevelChoice chooseLevels(const Texture& t, const SamplerState& s, int32_t lambda) {
-    const int last = t.levels() - 1;
-    const int base = std::clamp(s.baseLevel, 0, last);
-    const int q = std::max(base, std::min(last, s.maxLevel));
-    // GL 1.2 §3.8.8: c = 0.5 when magnifying LINEAR against a NEAREST_MIPMAP_* min filter,
-    // so that the switch-over is continuous; 0 otherwise.
-    const int32_t c = (s.magFilter == FilterMode::Linear && s.minFilter == FilterMode::Nearest &&
-                       s.mipFilter != MipMode::None)
-                          ? kLodOne / 2
-                          : 0;
-    if (lambda <= c) return {s.magFilter, base, base, 0, false};
-    switch (s.mipFilter) {
-        case MipMode::None: return {s.minFilter, base, base, 0, false};
-        case MipMode::Nearest: {
-            // d = ceil(λ + ½) − 1: half-integer λ rounds down.
-            int64_t d = int64_t(base) + ((int64_t(lambda) + (kLodOne / 2 - 1)) >> kLodFracBits);
-            int lvl = int(std::min<int64_t>(d, q));
-            return {s.minFilter, lvl, lvl, 0, false};
-        }
-        case MipMode::Linear: {
-            if (int64_t(lambda) >= int64_t(q - base) * kLodOne) return {s.minFilter, q, q, 0, false};
-            int d1 = base + (lambda >> kLodFracBits);
-            return {s.minFilter, d1, d1 + 1, lambda & (kLodOne - 1), true};
-        }
-    }
-    return {s.magFilter, base, base, 0, false};
+    return detail::chooseLevelsInline(detail::levelParams(t.levels(), s), lambda);
 }
 
 }  // namespace rg::tex

@@ -226,8 +226,12 @@ inline void evaluateStageQuad(const StageState& st, const std::array<StageInputs
 // Identical bytes: TextureUnits.ShadeQuadFastMatchesReferenceUnderRandomStates.
 namespace quad {
 
+// The stage inputs, indexed by their D3DTA source value (selectArg is one indexed load;
+// setStage refuses sources above arg::Specular).
 struct Regs {
-    __m128i diffuse, specular, current, texture, tfactor;
+    __m128i src[5];
+    __m128i& operator[](uint8_t source) { return src[source]; }
+    const __m128i& operator[](uint8_t source) const { return src[source]; }
 };
 
 [[gnu::always_inline]] inline __m128i load(const std::array<Rgba8, 4>& v) {
@@ -258,15 +262,8 @@ struct Regs {
     return _mm_or_si128(a2, _mm_slli_epi32(a2, 16));
 }
 [[gnu::always_inline]] inline __m128i selectArg(uint8_t a, const Regs& in) {
-    __m128i v;
-    switch (a & arg::SourceMask) {
-        case arg::Diffuse: v = in.diffuse; break;
-        case arg::Current: v = in.current; break;
-        case arg::Texture: v = in.texture; break;
-        case arg::TFactor: v = in.tfactor; break;
-        case arg::Specular: v = in.specular; break;
-        default: v = in.current; break;
-    }
+    const uint8_t source = a & arg::SourceMask;
+    __m128i v = in[source <= arg::Specular ? source : arg::Current];
     if (a & arg::AlphaReplicate) v = alphaBroadcast(v);
     if (a & arg::Complement) v = _mm_xor_si128(v, ones());
     return v;
@@ -311,11 +308,11 @@ template <int kShift>
 }
 [[gnu::always_inline]] inline __m128i blendAlphaFor(TextureOp op, const Regs& in) {
     switch (op) {
-        case TextureOp::BlendDiffuseAlpha: return alphaBroadcast(in.diffuse);
+        case TextureOp::BlendDiffuseAlpha: return alphaBroadcast(in[arg::Diffuse]);
         case TextureOp::BlendTextureAlpha:
-        case TextureOp::BlendTextureAlphaPM: return alphaBroadcast(in.texture);
-        case TextureOp::BlendFactorAlpha: return alphaBroadcast(in.tfactor);
-        case TextureOp::BlendCurrentAlpha: return alphaBroadcast(in.current);
+        case TextureOp::BlendTextureAlphaPM: return alphaBroadcast(in[arg::Texture]);
+        case TextureOp::BlendFactorAlpha: return alphaBroadcast(in[arg::TFactor]);
+        case TextureOp::BlendCurrentAlpha: return alphaBroadcast(in[arg::Current]);
         default: return _mm_setzero_si128();
     }
 }
@@ -366,7 +363,7 @@ template <int kShift>
                                 st.colorScaleShift);
     __m128i alpha;
     if (st.alphaOp == TextureOp::Disable || st.alphaOp == TextureOp::PreModulate) {
-        alpha = in.current;  // CURRENT's alpha passes, and is still scaled (evaluateStage)
+        alpha = in[arg::Current];  // CURRENT's alpha passes, and is still scaled (evaluateStage)
     } else {
         const __m128i a0 = st.alphaOp == TextureOp::Lerp ? selectArg(st.alphaArg0, in) : _mm_setzero_si128();
         alpha = combine(st.alphaOp, selectArg(st.alphaArg1, in), selectArg(st.alphaArg2, in), a0, in);

@@ -373,48 +373,48 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
         // the compiled samplers where the state has one; fetches added once per quad.
         namespace q = detail::quad;
         q::Regs r;
-        r.diffuse = q::loadPixels(quad.diffuse);
-        r.specular = q::loadPixels(quad.specular);
-        r.current = r.diffuse;
-        r.tfactor = q::splat(tfactor_);
+        r[arg::Diffuse] = q::loadPixels(quad.diffuse);
+        r[arg::Specular] = q::loadPixels(quad.specular);
+        r[arg::Current] = r[arg::Diffuse];
+        r[arg::TFactor] = q::splat(tfactor_);
         __m128i premod = q::ones();
         bool havePremod = false;
         uint64_t fetched = 0;
         const detail::CompiledStages& compiled = *compiled_;
         for (int i = 0; i < n; ++i) {
             const StageState& st = units_[size_t(i)].stage;
-            r.texture = q::ones();
+            r[arg::Texture] = q::ones();
             if (sampling_ & (1u << i)) {
                 const detail::QuadSampler& qs = compiled.stage[size_t(i)];
                 if (qs.fn)
-                    fetched += qs.fn(qs, quad.texCoord[st.texCoordIndex], r.texture);
+                    fetched += qs.fn(qs, quad.texCoord[st.texCoordIndex], r[arg::Texture]);
                 else
-                    r.texture = q::load(sampleStage(i, quad, path));
+                    r[arg::Texture] = q::load(sampleStage(i, quad, path));
             }
             if (havePremod) {
-                r.texture = q::mulDiv255(r.texture, premod);
+                r[arg::Texture] = q::mulDiv255(r[arg::Texture], premod);
                 havePremod = false;
             }
             if (st.colorOp == TextureOp::PreModulate) {
-                premod = r.texture;
+                premod = r[arg::Texture];
                 havePremod = true;
             }
             if (q::supported(st)) {
-                r.current = q::evaluate(st, r);
+                r[arg::Current] = q::evaluate(st, r);
             } else {
                 std::array<Rgba8, 4> diffuse, specular, current, texel, next;
-                q::store(current, r.current);
-                q::store(texel, r.texture);
+                q::store(current, r[arg::Current]);
+                q::store(texel, r[arg::Texture]);
                 std::array<StageInputs, 4> in;
                 for (int p = 0; p < 4; ++p)
                     in[size_t(p)] = {quad.diffuse[size_t(p)], quad.specular[size_t(p)],
                                      current[size_t(p)], texel[size_t(p)], tfactor_};
                 detail::evaluateStageQuad(st, in, next);
-                r.current = q::load(next);
+                r[arg::Current] = q::load(next);
             }
         }
         if (fetched) fetches_->add(fetched);
-        q::store(out, r.current);
+        q::store(out, r[arg::Current]);
         return;
     }
 
