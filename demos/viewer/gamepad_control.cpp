@@ -103,6 +103,14 @@ void GamepadManager::scan() {
         impl_->kind = known.value_or(pad::PadKind::Generic);
         impl_->descriptor = pad::parseHidDescriptor(reportDescriptorOf(d->path));
         const char* bus = d->bus_type == HID_API_BUS_BLUETOOTH ? "Bluetooth" : "USB";
+        if (impl_->kind == pad::PadKind::SwitchPro && d->bus_type == HID_API_BUS_USB) {
+            // Over USB the Pro Controller reports only after the handshake (0x80 0x02)
+            // and the switch to HID-only talk without timeout (0x80 0x04), per the public
+            // reverse-engineering notes. Untested here without the hardware.
+            const uint8_t handshake[2] = {0x80, 0x02}, hidOnly[2] = {0x80, 0x04};
+            hid_write(dev, handshake, sizeof handshake);
+            hid_write(dev, hidOnly, sizeof hidOnly);
+        }
         status_ = std::string(pad::padKindName(impl_->kind)) + " (" + bus + ", " + d->path + ")";
         messages_.push_back("gamepad: connected " + status_);
         toldNone_ = false;
