@@ -56,6 +56,7 @@ struct QuadSampler {
 // The compiled samplers of all stages (TextureUnits holds one, rebuilt by its setters).
 struct CompiledStages {
     std::array<QuadSampler, 16> stage{};
+    std::array<uint8_t, 16> stageKernel{};  // quad::StageKernel of each stage (stage_arith.h)
 };
 
 // Chooses the kernel for a stage's texture and sampler, or leaves fn null when the state

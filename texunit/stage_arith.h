@@ -355,22 +355,64 @@ template <int kShift>
            (isChannelOp(st.alphaOp) || st.alphaOp == TextureOp::Disable ||
             st.alphaOp == TextureOp::PreModulate);
 }
-// evaluateStageQuad for a supported() state: the new CURRENT of the four pixels.
+// evaluateStageQuad for a supported() state: the new CURRENT of the four pixels. kColor /
+// kAlpha fix the ops at compile time for the common states (TextureOp::Count: read them
+// from `st`), which leaves the op's arithmetic alone in the instantiation.
+template <TextureOp kColor = TextureOp::Count, TextureOp kAlpha = TextureOp::Count>
 [[gnu::always_inline]] inline __m128i evaluate(const StageState& st, const Regs& in) {
-    const __m128i c0 = st.colorOp == TextureOp::Lerp ? selectArg(st.colorArg0, in) : _mm_setzero_si128();
-    const __m128i color = scale(combine(st.colorOp, selectArg(st.colorArg1, in),
-                                        selectArg(st.colorArg2, in), c0, in),
-                                st.colorScaleShift);
+    const TextureOp colorOp = kColor == TextureOp::Count ? st.colorOp : kColor;
+    const TextureOp alphaOp = kAlpha == TextureOp::Count ? st.alphaOp : kAlpha;
+    const __m128i c0 = colorOp == TextureOp::Lerp ? selectArg(st.colorArg0, in) : _mm_setzero_si128();
+    __m128i color = combine(colorOp, selectArg(st.colorArg1, in), selectArg(st.colorArg2, in), c0, in);
+    if (st.colorScaleShift) color = scale(color, st.colorScaleShift);
     __m128i alpha;
-    if (st.alphaOp == TextureOp::Disable || st.alphaOp == TextureOp::PreModulate) {
+    if (alphaOp == TextureOp::Disable || alphaOp == TextureOp::PreModulate) {
         alpha = in[arg::Current];  // CURRENT's alpha passes, and is still scaled (evaluateStage)
     } else {
-        const __m128i a0 = st.alphaOp == TextureOp::Lerp ? selectArg(st.alphaArg0, in) : _mm_setzero_si128();
-        alpha = combine(st.alphaOp, selectArg(st.alphaArg1, in), selectArg(st.alphaArg2, in), a0, in);
+        const __m128i a0 = alphaOp == TextureOp::Lerp ? selectArg(st.alphaArg0, in) : _mm_setzero_si128();
+        alpha = combine(alphaOp, selectArg(st.alphaArg1, in), selectArg(st.alphaArg2, in), a0, in);
     }
-    alpha = scale(alpha, st.alphaScaleShift);
+    if (st.alphaScaleShift) alpha = scale(alpha, st.alphaScaleShift);
     const __m128i alphaMask = _mm_set1_epi32(int32_t(0xff000000u));
     return _mm_or_si128(_mm_andnot_si128(alphaMask, color), _mm_and_si128(alphaMask, alpha));
+}
+
+// Which evaluate() instantiation a stage uses, chosen when the state is set.
+enum class StageKernel : uint8_t {
+    Scalar,  // not supported(): evaluateStageQuad per pixel
+    Any,     // evaluate<>: ops read from the state
+    // The fixed-function states of real frames (GL REPLACE/MODULATE/DECAL, the PEM passes).
+    SelectSelect, ModulateModulate, ModulateSelect1, ModulateSelect2, SelectModulate,
+    BlendFactorBlendFactor, BlendTextureDisable,
+};
+inline StageKernel stageKernel(const StageState& st) {
+    using O = TextureOp;
+    if (!supported(st)) return StageKernel::Scalar;
+    const O c = st.colorOp, a = st.alphaOp;
+    if (c == O::SelectArg1 && a == O::SelectArg1) return StageKernel::SelectSelect;
+    if (c == O::Modulate && a == O::Modulate) return StageKernel::ModulateModulate;
+    if (c == O::Modulate && a == O::SelectArg1) return StageKernel::ModulateSelect1;
+    if (c == O::Modulate && a == O::SelectArg2) return StageKernel::ModulateSelect2;
+    if (c == O::SelectArg1 && a == O::Modulate) return StageKernel::SelectModulate;
+    if (c == O::BlendFactorAlpha && a == O::BlendFactorAlpha) return StageKernel::BlendFactorBlendFactor;
+    if (c == O::BlendTextureAlpha && a == O::Disable) return StageKernel::BlendTextureDisable;
+    return StageKernel::Any;
+}
+// evaluate() through the kernel chosen by stageKernel() (not for StageKernel::Scalar).
+[[gnu::always_inline]] inline __m128i evaluateKernel(StageKernel k, const StageState& st,
+                                                     const Regs& in) {
+    using O = TextureOp;
+    switch (k) {
+        case StageKernel::SelectSelect: return evaluate<O::SelectArg1, O::SelectArg1>(st, in);
+        case StageKernel::ModulateModulate: return evaluate<O::Modulate, O::Modulate>(st, in);
+        case StageKernel::ModulateSelect1: return evaluate<O::Modulate, O::SelectArg1>(st, in);
+        case StageKernel::ModulateSelect2: return evaluate<O::Modulate, O::SelectArg2>(st, in);
+        case StageKernel::SelectModulate: return evaluate<O::SelectArg1, O::Modulate>(st, in);
+        case StageKernel::BlendFactorBlendFactor:
+            return evaluate<O::BlendFactorAlpha, O::BlendFactorAlpha>(st, in);
+        case StageKernel::BlendTextureDisable: return evaluate<O::BlendTextureAlpha, O::Disable>(st, in);
+        default: return evaluate<>(st, in);
+    }
 }
 
 }  // namespace quad

@@ -150,6 +150,7 @@ void TextureUnits::refresh() {
     sampling_ = 0;
     auto compiled = std::make_shared<detail::CompiledStages>();
     for (int i = 0; i < active_; ++i) {
+        compiled->stageKernel[size_t(i)] = uint8_t(detail::quad::stageKernel(units_[size_t(i)].stage));
         if (!readsTexture(i)) continue;
         sampling_ |= 1u << i;
         const Unit& u = units_[size_t(i)];
@@ -399,8 +400,9 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
                 premod = r[arg::Texture];
                 havePremod = true;
             }
-            if (q::supported(st)) {
-                r[arg::Current] = q::evaluate(st, r);
+            const auto kernel = q::StageKernel(compiled.stageKernel[size_t(i)]);
+            if (kernel != q::StageKernel::Scalar) {
+                r[arg::Current] = q::evaluateKernel(kernel, st, r);
             } else {
                 std::array<Rgba8, 4> diffuse, specular, current, texel, next;
                 q::store(current, r[arg::Current]);

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "core/error.h"
 #include "tex_test_util.h"
@@ -231,7 +233,19 @@ TEST(TextureUnits, ShadeQuadFastMatchesReferenceUnderRandomStates) {
         TextureUnits tu;
         const int n = 1 + int(rng.below(3));
         for (int i = 0; i < n; ++i) {
-            tu.setStage(i, randomStage(rng, 3));
+            StageState st = randomStage(rng, 3);
+            if (rng.below(3) == 0) {
+                // The (colour, alpha) op pairs with their own SSE2 instantiation
+                // (quad::StageKernel), with random arguments and scales.
+                static constexpr std::pair<TextureOp, TextureOp> kFixed[] = {
+                    {TextureOp::SelectArg1, TextureOp::SelectArg1}, {TextureOp::Modulate, TextureOp::Modulate},
+                    {TextureOp::Modulate, TextureOp::SelectArg1}, {TextureOp::Modulate, TextureOp::SelectArg2},
+                    {TextureOp::SelectArg1, TextureOp::Modulate},
+                    {TextureOp::BlendFactorAlpha, TextureOp::BlendFactorAlpha},
+                    {TextureOp::BlendTextureAlpha, TextureOp::Disable}};
+                std::tie(st.colorOp, st.alphaOp) = kFixed[rng.below(7)];
+            }
+            tu.setStage(i, st);
             tu.setTexture(i, textures[rng.below(4)]);
             SamplerState s;
             for (auto& a : s.address) a = AddressMode(rng.below(5));
