@@ -36,12 +36,6 @@ enum class Addr : uint8_t { Edge, Pow2 };
 // The texel coordinates of the quad's four pixels on one level: toSubTexel, floorToInt and
 // addressTexel lane for lane (the same IEEE operations as the scalar code: mulps is mulss,
 // cvttps2dq is the int32 cast, min/max of a non-NaN value are std::clamp).
-struct Axis4 {
-    alignas(16) int32_t i0[4];
-    alignas(16) int32_t i1[4];
-    alignas(16) int32_t weights[4];  // (256 − α) | α << 16: the int16 pair of weightPair(α)
-};
-
 template <Addr kA>
 inline __m128i address4(__m128i i, int32_t n) {
     if constexpr (kA == Addr::Edge) {
@@ -66,22 +60,31 @@ inline __m128i subTexel4(__m128 c, int32_t n) {
 }
 
 template <Addr kA>
-inline void linearAxis4(__m128 c, int32_t n, Axis4& out) {
-    const __m128i u = _mm_sub_epi32(subTexel4(c, n), _mm_set1_epi32(1 << (kSubTexelBits - 1)));
-    const __m128i b = _mm_srai_epi32(u, kSubTexelBits);
-    const __m128i frac = _mm_and_si128(u, _mm_set1_epi32((1 << kSubTexelBits) - 1));
-    _mm_store_si128(reinterpret_cast<__m128i*>(out.weights),
-                    _mm_or_si128(_mm_slli_epi32(frac, 16),
-                                 _mm_sub_epi32(_mm_set1_epi32(1 << kSubTexelBits), frac)));
-    _mm_store_si128(reinterpret_cast<__m128i*>(out.i0), address4<kA>(b, n));
-    _mm_store_si128(reinterpret_cast<__m128i*>(out.i1),
-                    address4<kA>(_mm_add_epi32(b, _mm_set1_epi32(1)), n));
-}
-
-template <Addr kA>
 inline void nearestAxis4(__m128 c, int32_t n, int32_t out[4]) {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
                      address4<kA>(_mm_srai_epi32(subTexel4(c, n), kSubTexelBits), n));
+}
+
+// linearAxis4 kept in registers: texel indices and packed weight pairs per lane.
+struct AxisLanes {
+    __m128i i0, i1, weights;
+};
+template <Addr kA>
+inline AxisLanes linearLanes(__m128 c, int32_t n) {
+    const __m128i u = _mm_sub_epi32(subTexel4(c, n), _mm_set1_epi32(1 << (kSubTexelBits - 1)));
+    const __m128i b = _mm_srai_epi32(u, kSubTexelBits);
+    const __m128i frac = _mm_and_si128(u, _mm_set1_epi32((1 << kSubTexelBits) - 1));
+    return {address4<kA>(b, n), address4<kA>(_mm_add_epi32(b, _mm_set1_epi32(1)), n),
+            _mm_or_si128(_mm_slli_epi32(frac, 16),
+                         _mm_sub_epi32(_mm_set1_epi32(1 << kSubTexelBits), frac))};
+}
+// a·b per lane for 0 ≤ a, b and a·b < 2^31 (texel offsets inside one level): SSE2 has
+// only the 32×32 → 64 multiply of lanes 0 and 2.
+inline __m128i mulLanes(__m128i a, uint32_t b) {
+    const __m128i bv = _mm_set1_epi32(int32_t(b));
+    const __m128i even = _mm_mul_epu32(a, bv), odd = _mm_mul_epu32(_mm_srli_epi64(a, 32), bv);
+    return _mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
+                              _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)));
 }
 
 // ---- the weighted sums --------------------------------------------------------------
@@ -105,13 +108,13 @@ inline __m128i pairBiased(__m128i a, __m128i b, __m128i w) {
     return _mm_madd_epi16(t, w);
 }
 
-// The bilinear sum S − 2^23 per channel over rows r0 (y0) and r1 (y1); wx, wy the
-// packed weight pairs (Axis4::weights).
-inline __m128i bilinearBiased(const Rgba8* r0, const Rgba8* r1, int32_t x0, int32_t x1,
-                              int32_t wxPair, int32_t wyPair) {
+// The bilinear sum S − 2^23 per channel over texels t00, t01 (row y0) and t10, t11 (row
+// y1); wx, wy the packed weight pairs (AxisLanes::weights).
+inline __m128i bilinearBiased(const Rgba8* t00, const Rgba8* t01, const Rgba8* t10,
+                              const Rgba8* t11, int32_t wxPair, int32_t wyPair) {
     const __m128i zero = _mm_setzero_si128();
-    const __m128i row0 = _mm_unpacklo_epi8(load4(r0 + x0), load4(r0 + x1));
-    const __m128i row1 = _mm_unpacklo_epi8(load4(r1 + x0), load4(r1 + x1));
+    const __m128i row0 = _mm_unpacklo_epi8(load4(t00), load4(t01));
+    const __m128i row1 = _mm_unpacklo_epi8(load4(t10), load4(t11));
     const __m128i both = _mm_unpacklo_epi64(row0, row1);
     const __m128i k128 = _mm_set1_epi16(128);
     const __m128i t0 = _mm_sub_epi16(_mm_unpacklo_epi8(both, zero), k128);
@@ -165,7 +168,7 @@ inline __m128 select(__m128 mask, __m128 a, __m128 b) {  // mask ? a : b
 // the biased, clamped λ.
 template <Target kTarget>
 inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
-                           __m128& s, __m128& t, int face[4]) {
+                           __m128& s, __m128& t, int face[4], __m128i& face4) {
     __m128 x = _mm_loadu_ps(&in[0][0]), y = _mm_loadu_ps(&in[1][0]);
     __m128 z = _mm_loadu_ps(&in[2][0]), w = _mm_loadu_ps(&in[3][0]);
     _MM_TRANSPOSE4_PS(x, y, z, w);
@@ -196,8 +199,8 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
             _mm_and_si128(_mm_castps_si128(isY), _mm_set1_epi32(2)),
             _mm_and_si128(_mm_castps_si128(isZ), _mm_set1_epi32(4)));
         const __m128 pos = select(isX, px, select(isY, py, pz));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(face),
-                         _mm_add_epi32(fi, _mm_andnot_si128(_mm_castps_si128(pos), _mm_set1_epi32(1))));
+        face4 = _mm_add_epi32(fi, _mm_andnot_si128(_mm_castps_si128(pos), _mm_set1_epi32(1)));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(face), face4);
         // λ from all four pixels measured on pixel 0's face.
         float s1 = lane<1>(s), t1 = lane<1>(t), s2 = lane<2>(s), t2 = lane<2>(t);
         if (face[1] != face[0]) {
@@ -220,6 +223,7 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
         s = x;
         t = y;
         for (int p = 0; p < 4; ++p) face[p] = 0;
+        face4 = _mm_setzero_si128();
         lambda = quadLambdaInline(lane<0>(s), lane<1>(s), lane<2>(s), lane<0>(t), lane<1>(t),
                                   lane<2>(t), qs.baseSizeF[0], qs.baseSizeF[1],
                                   kTarget == Target::OneD ? 1 : 2);
@@ -232,7 +236,8 @@ uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>&
     constexpr bool kTwoD = kTarget != Target::OneD;
     __m128 s, t;
     int face[4];
-    const int32_t lambda = projectQuad<kTarget>(qs, in, s, t, face);
+    __m128i face4;
+    const int32_t lambda = projectQuad<kTarget>(qs, in, s, t, face, face4);
     const LevelChoice ch = chooseLevelsInline(qs.levels, lambda);
     const LevelView& L0 = qs.level[size_t(ch.level0)];
     const LevelView& L1 = qs.level[size_t(ch.level1)];
@@ -241,19 +246,31 @@ uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>&
     if (ch.filter == FilterMode::Linear) {
         // One level's sums for the four pixels: S − 2^23 (2D) or R − 2^15 (1D).
         auto levelSums = [&](const LevelView& L, __m128i sum[4]) {
-            Axis4 ax, ay;
-            linearAxis4<kS>(s, L.width, ax);
-            if constexpr (kTwoD) linearAxis4<kT>(t, L.height, ay);
-            for (int p = 0; p < 4; ++p) {
-                const Rgba8* base = L.data + size_t(face[p]) * L.faceStride;
-                if constexpr (kTwoD) {
-                    sum[p] = bilinearBiased(base + size_t(ay.i0[p]) * size_t(L.width),
-                                            base + size_t(ay.i1[p]) * size_t(L.width), ax.i0[p],
-                                            ax.i1[p], ax.weights[p], ay.weights[p]);
-                } else {
-                    sum[p] = pairBiased(load4(base + ax.i0[p]), load4(base + ax.i1[p]),
-                                        _mm_set1_epi32(ax.weights[p]));
-                }
+            // Texel indices of the four taps of the four pixels, from the level's data.
+            const AxisLanes ax = linearLanes<kS>(s, L.width);
+            const __m128i faceBase = kTarget == Target::Cube ? mulLanes(face4, L.faceStride)
+                                                             : _mm_setzero_si128();
+            alignas(16) int32_t i00[4], i01[4], wx[4];
+            _mm_store_si128(reinterpret_cast<__m128i*>(wx), ax.weights);
+            if constexpr (kTwoD) {
+                const AxisLanes ay = linearLanes<kT>(t, L.height);
+                const __m128i row0 = _mm_add_epi32(faceBase, mulLanes(ay.i0, uint32_t(L.width)));
+                const __m128i row1 = _mm_add_epi32(faceBase, mulLanes(ay.i1, uint32_t(L.width)));
+                alignas(16) int32_t i10[4], i11[4], wy[4];
+                _mm_store_si128(reinterpret_cast<__m128i*>(i00), _mm_add_epi32(row0, ax.i0));
+                _mm_store_si128(reinterpret_cast<__m128i*>(i01), _mm_add_epi32(row0, ax.i1));
+                _mm_store_si128(reinterpret_cast<__m128i*>(i10), _mm_add_epi32(row1, ax.i0));
+                _mm_store_si128(reinterpret_cast<__m128i*>(i11), _mm_add_epi32(row1, ax.i1));
+                _mm_store_si128(reinterpret_cast<__m128i*>(wy), ay.weights);
+                for (int p = 0; p < 4; ++p)
+                    sum[p] = bilinearBiased(L.data + i00[p], L.data + i01[p], L.data + i10[p],
+                                            L.data + i11[p], wx[p], wy[p]);
+            } else {
+                _mm_store_si128(reinterpret_cast<__m128i*>(i00), _mm_add_epi32(faceBase, ax.i0));
+                _mm_store_si128(reinterpret_cast<__m128i*>(i01), _mm_add_epi32(faceBase, ax.i1));
+                for (int p = 0; p < 4; ++p)
+                    sum[p] = pairBiased(load4(L.data + i00[p]), load4(L.data + i01[p]),
+                                        _mm_set1_epi32(wx[p]));
             }
         };
         __m128i a[4];

@@ -365,6 +365,12 @@ template <TextureOp kColor = TextureOp::Count, TextureOp kAlpha = TextureOp::Cou
     const __m128i c0 = colorOp == TextureOp::Lerp ? selectArg(st.colorArg0, in) : _mm_setzero_si128();
     __m128i color = combine(colorOp, selectArg(st.colorArg1, in), selectArg(st.colorArg2, in), c0, in);
     if (st.colorScaleShift) color = scale(color, st.colorScaleShift);
+    // The same op on the same arguments with the same scale for alpha (GL MODULATE and
+    // REPLACE, the PEM stages): every byte of `color` is already the op on that channel.
+    if (alphaOp == colorOp && st.alphaArg1 == st.colorArg1 && st.alphaArg2 == st.colorArg2 &&
+        st.alphaScaleShift == st.colorScaleShift &&
+        (colorOp != TextureOp::Lerp || st.alphaArg0 == st.colorArg0))
+        return color;
     __m128i alpha;
     if (alphaOp == TextureOp::Disable || alphaOp == TextureOp::PreModulate) {
         alpha = in[arg::Current];  // CURRENT's alpha passes, and is still scaled (evaluateStage)

@@ -245,6 +245,17 @@ TEST(TextureUnits, ShadeQuadFastMatchesReferenceUnderRandomStates) {
                     {TextureOp::BlendTextureAlpha, TextureOp::Disable}};
                 std::tie(st.colorOp, st.alphaOp) = kFixed[rng.below(7)];
             }
+            if (rng.below(4) == 0) {
+                // Alpha the same op on the same arguments (GL MODULATE/REPLACE): the SSE2
+                // cascade then keeps the colour result's alpha byte.
+                st.alphaOp = st.colorOp == TextureOp::DotProduct3 ? st.alphaOp : st.colorOp;
+                if (st.alphaOp >= TextureOp::ModulateAlphaAddColor && st.alphaOp <= TextureOp::ModulateInvColorAddAlpha)
+                    st.alphaOp = TextureOp::Modulate;
+                st.alphaArg1 = st.colorArg1;
+                st.alphaArg2 = st.colorArg2;
+                st.alphaArg0 = st.colorArg0;
+                st.alphaScaleShift = rng.below(3) ? st.colorScaleShift : uint8_t(rng.below(3));
+            }
             tu.setStage(i, st);
             tu.setTexture(i, textures[rng.below(4)]);
             SamplerState s;
