@@ -60,12 +60,11 @@ inline __m128i subTexel4(__m128 c, int32_t n) {
 }
 
 template <Addr kA>
-inline void nearestAxis4(__m128 c, int32_t n, int32_t out[4]) {
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
-                     address4<kA>(_mm_srai_epi32(subTexel4(c, n), kSubTexelBits), n));
+inline __m128i nearestLanes(__m128 c, int32_t n) {
+    return address4<kA>(_mm_srai_epi32(subTexel4(c, n), kSubTexelBits), n);
 }
 
-// linearAxis4 kept in registers: texel indices and packed weight pairs per lane.
+// axisFootprint(Linear) of the four pixels: texel indices and packed weight pairs per lane.
 struct AxisLanes {
     __m128i i0, i1, weights;
 };
@@ -231,82 +230,109 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
     return std::clamp(lambda + qs.lodBias, qs.lodMin, qs.lodMax);
 }
 
+// Phase 1 of a kernel: everything that depends on the coordinates and the texture's
+// shape but not on its texels — projection, λ, level choice, tap indices and weights.
 template <Target kTarget, Addr kS, Addr kT>
-uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in, __m128i& out) {
+[[gnu::always_inline]] inline uint64_t prepareQuad(const QuadSampler& qs,
+                                                   const std::array<glm::vec4, 4>& in,
+                                                   QuadFootprint& fp) {
     constexpr bool kTwoD = kTarget != Target::OneD;
     __m128 s, t;
     int face[4];
     __m128i face4;
     const int32_t lambda = projectQuad<kTarget>(qs, in, s, t, face, face4);
     const LevelChoice ch = chooseLevelsInline(qs.levels, lambda);
-    const LevelView& L0 = qs.level[size_t(ch.level0)];
-    const LevelView& L1 = qs.level[size_t(ch.level1)];
-    __m128i v[4];
-
-    if (ch.filter == FilterMode::Linear) {
-        // One level's sums for the four pixels: S − 2^23 (2D) or R − 2^15 (1D).
-        auto levelSums = [&](const LevelView& L, __m128i sum[4]) {
-            // Texel indices of the four taps of the four pixels, from the level's data.
+    fp.ch = ch;
+    auto store = [](int32_t* dst, __m128i v) { _mm_store_si128(reinterpret_cast<__m128i*>(dst), v); };
+    const int nLevels = ch.blend ? 2 : 1;
+    for (int li = 0; li < nLevels; ++li) {
+        const LevelView& L = qs.level[size_t(li == 0 ? ch.level0 : ch.level1)];
+        const __m128i faceBase = kTarget == Target::Cube ? mulLanes(face4, L.faceStride)
+                                                         : _mm_setzero_si128();
+        if (ch.filter == FilterMode::Linear) {
             const AxisLanes ax = linearLanes<kS>(s, L.width);
-            const __m128i faceBase = kTarget == Target::Cube ? mulLanes(face4, L.faceStride)
-                                                             : _mm_setzero_si128();
-            alignas(16) int32_t i00[4], i01[4], wx[4];
-            _mm_store_si128(reinterpret_cast<__m128i*>(wx), ax.weights);
+            store(fp.wx[li], ax.weights);
             if constexpr (kTwoD) {
                 const AxisLanes ay = linearLanes<kT>(t, L.height);
                 const __m128i row0 = _mm_add_epi32(faceBase, mulLanes(ay.i0, uint32_t(L.width)));
                 const __m128i row1 = _mm_add_epi32(faceBase, mulLanes(ay.i1, uint32_t(L.width)));
-                alignas(16) int32_t i10[4], i11[4], wy[4];
-                _mm_store_si128(reinterpret_cast<__m128i*>(i00), _mm_add_epi32(row0, ax.i0));
-                _mm_store_si128(reinterpret_cast<__m128i*>(i01), _mm_add_epi32(row0, ax.i1));
-                _mm_store_si128(reinterpret_cast<__m128i*>(i10), _mm_add_epi32(row1, ax.i0));
-                _mm_store_si128(reinterpret_cast<__m128i*>(i11), _mm_add_epi32(row1, ax.i1));
-                _mm_store_si128(reinterpret_cast<__m128i*>(wy), ay.weights);
-                for (int p = 0; p < 4; ++p)
-                    sum[p] = bilinearBiased(L.data + i00[p], L.data + i01[p], L.data + i10[p],
-                                            L.data + i11[p], wx[p], wy[p]);
+                store(fp.i00[li], _mm_add_epi32(row0, ax.i0));
+                store(fp.i01[li], _mm_add_epi32(row0, ax.i1));
+                store(fp.i10[li], _mm_add_epi32(row1, ax.i0));
+                store(fp.i11[li], _mm_add_epi32(row1, ax.i1));
+                store(fp.wy[li], ay.weights);
             } else {
-                _mm_store_si128(reinterpret_cast<__m128i*>(i00), _mm_add_epi32(faceBase, ax.i0));
-                _mm_store_si128(reinterpret_cast<__m128i*>(i01), _mm_add_epi32(faceBase, ax.i1));
-                for (int p = 0; p < 4; ++p)
-                    sum[p] = pairBiased(load4(L.data + i00[p]), load4(L.data + i01[p]),
-                                        _mm_set1_epi32(wx[p]));
+                store(fp.i00[li], _mm_add_epi32(faceBase, ax.i0));
+                store(fp.i01[li], _mm_add_epi32(faceBase, ax.i1));
+            }
+        } else {
+            __m128i i = nearestLanes<kS>(s, L.width);
+            if constexpr (kTwoD) i = _mm_add_epi32(i, mulLanes(nearestLanes<kT>(t, L.height), uint32_t(L.width)));
+            store(fp.i00[li], _mm_add_epi32(faceBase, i));
+        }
+    }
+    const uint64_t perPixel = (ch.filter == FilterMode::Linear ? (kTwoD ? 4 : 2) : 1) * uint64_t(nLevels);
+    fp.fetches = perPixel * 4;
+    return fp.fetches;
+}
+
+// Phase 2: the texels and their exactly rounded weighted sum, from the level data of the
+// sampler's texture (which may be another texture of the same shape: footprint sharing).
+template <bool kTwoD>
+[[gnu::always_inline]] inline __m128i gatherQuad(const QuadSampler& qs, const QuadFootprint& fp) {
+    const LevelChoice& ch = fp.ch;
+    const Rgba8* d0 = qs.level[size_t(ch.level0)].data;
+    const Rgba8* d1 = qs.level[size_t(ch.level1)].data;
+    __m128i v[4];
+    if (ch.filter == FilterMode::Linear) {
+        // One level's sums for the four pixels: S − 2^23 (2D) or R − 2^15 (1D).
+        auto levelSums = [&](const Rgba8* d, int li, __m128i sum[4]) {
+            for (int p = 0; p < 4; ++p) {
+                if constexpr (kTwoD)
+                    sum[p] = bilinearBiased(d + fp.i00[li][p], d + fp.i01[li][p], d + fp.i10[li][p],
+                                            d + fp.i11[li][p], fp.wx[li][p], fp.wy[li][p]);
+                else
+                    sum[p] = pairBiased(load4(d + fp.i00[li][p]), load4(d + fp.i01[li][p]),
+                                        _mm_set1_epi32(fp.wx[li][p]));
             }
         };
         __m128i a[4];
-        levelSums(L0, a);
+        levelSums(d0, 0, a);
         if (ch.blend) {
             __m128i b[4];
-            levelSums(L1, b);
+            levelSums(d1, 1, b);
             for (int p = 0; p < 4; ++p)
                 v[p] = kTwoD ? finishBilinearBlend(a[p], b[p], ch.frac) : finishPairBlend(a[p], b[p], ch.frac);
         } else {
             for (int p = 0; p < 4; ++p) v[p] = kTwoD ? finishBilinear(a[p]) : finishPair(a[p]);
         }
-        out = packQuad(v);
-        return uint64_t(kTwoD ? 4 : 2) * (ch.blend ? 2 : 1) * 4;
+        return packQuad(v);
     }
     // NEAREST: one texel per level; two levels blend with 8 weight bits.
-    auto texels = [&](const LevelView& L, const Rgba8* px[4]) {
-        int32_t xi[4], yi[4] = {0, 0, 0, 0};
-        nearestAxis4<kS>(s, L.width, xi);
-        if constexpr (kTwoD) nearestAxis4<kT>(t, L.height, yi);
-        for (int p = 0; p < 4; ++p)
-            px[p] = L.data + size_t(face[p]) * L.faceStride + size_t(yi[p]) * size_t(L.width) + size_t(xi[p]);
-    };
-    const Rgba8* t0[4];
-    texels(L0, t0);
     if (ch.blend) {
-        const Rgba8* t1[4];
-        texels(L1, t1);
         const __m128i w = weightPair(ch.frac);
-        for (int p = 0; p < 4; ++p) v[p] = finishPair(pairBiased(load4(t0[p]), load4(t1[p]), w));
-        out = packQuad(v);
-    } else {
-        out = _mm_unpacklo_epi64(_mm_unpacklo_epi32(load4(t0[0]), load4(t0[1])),
-                                 _mm_unpacklo_epi32(load4(t0[2]), load4(t0[3])));
+        for (int p = 0; p < 4; ++p)
+            v[p] = finishPair(pairBiased(load4(d0 + fp.i00[0][p]), load4(d1 + fp.i00[1][p]), w));
+        return packQuad(v);
     }
-    return uint64_t(ch.blend ? 2 : 1) * 4;
+    return _mm_unpacklo_epi64(_mm_unpacklo_epi32(load4(d0 + fp.i00[0][0]), load4(d0 + fp.i00[0][1])),
+                              _mm_unpacklo_epi32(load4(d0 + fp.i00[0][2]), load4(d0 + fp.i00[0][3])));
+}
+
+template <Target kTarget, Addr kS, Addr kT>
+uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in, __m128i& out) {
+    QuadFootprint fp;
+    const uint64_t n = prepareQuad<kTarget, kS, kT>(qs, in, fp);
+    out = gatherQuad<kTarget != Target::OneD>(qs, fp);
+    return n;
+}
+template <Target kTarget, Addr kS, Addr kT>
+uint64_t prepareKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in, QuadFootprint& fp) {
+    return prepareQuad<kTarget, kS, kT>(qs, in, fp);
+}
+template <bool kTwoD>
+__m128i gatherKernel(const QuadSampler& qs, const QuadFootprint& fp) {
+    return gatherQuad<kTwoD>(qs, fp);
 }
 
 bool specialisable(AddressMode m, int n) {
@@ -314,16 +340,38 @@ bool specialisable(AddressMode m, int n) {
 }
 Addr addrOf(AddressMode m) { return m == AddressMode::ClampToEdge ? Addr::Edge : Addr::Pow2; }
 
+template <Target kTarget, Addr kS, Addr kT>
+void setKernels(QuadSampler& q) {
+    q.fn = &sampleQuadKernel<kTarget, kS, kT>;
+    q.prepare = &prepareKernel<kTarget, kS, kT>;
+    q.gather = &gatherKernel<kTarget != Target::OneD>;
+}
 template <Target kTarget>
-QuadSampleFn pick(Addr s, Addr t) {
-    if (s == Addr::Edge)
-        return t == Addr::Edge ? &sampleQuadKernel<kTarget, Addr::Edge, Addr::Edge>
-                               : &sampleQuadKernel<kTarget, Addr::Edge, Addr::Pow2>;
-    return t == Addr::Edge ? &sampleQuadKernel<kTarget, Addr::Pow2, Addr::Edge>
-                           : &sampleQuadKernel<kTarget, Addr::Pow2, Addr::Pow2>;
+void pick(QuadSampler& q, Addr s, Addr t) {
+    if (s == Addr::Edge) {
+        if (t == Addr::Edge) setKernels<kTarget, Addr::Edge, Addr::Edge>(q);
+        else setKernels<kTarget, Addr::Edge, Addr::Pow2>(q);
+    } else {
+        if (t == Addr::Edge) setKernels<kTarget, Addr::Pow2, Addr::Edge>(q);
+        else setKernels<kTarget, Addr::Pow2, Addr::Pow2>(q);
+    }
 }
 
 }  // namespace
+
+bool sameFootprint(const QuadSampler& a, const QuadSampler& b) {
+    if (!a.fn || a.prepare != b.prepare || a.projected != b.projected || a.lodBias != b.lodBias ||
+        a.lodMin != b.lodMin || a.lodMax != b.lodMax || a.baseSize != b.baseSize ||
+        a.levels.base != b.levels.base || a.levels.q != b.levels.q || a.levels.c != b.levels.c ||
+        a.levels.mag != b.levels.mag || a.levels.min != b.levels.min || a.levels.mip != b.levels.mip ||
+        a.texture->levels() != b.texture->levels())
+        return false;
+    for (int l = 0; l < a.texture->levels(); ++l) {
+        const LevelView &x = a.level[size_t(l)], &y = b.level[size_t(l)];
+        if (x.width != y.width || x.height != y.height || x.faceStride != y.faceStride) return false;
+    }
+    return true;
+}
 
 QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool projected,
                                bool hasColorTable) {
@@ -351,18 +399,13 @@ QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool pro
     }
     const int w = t.desc().width, h = t.desc().height;
     switch (target) {
-        case TextureTarget::CubeMap:
-            q.fn = &sampleQuadKernel<Target::Cube, Addr::Edge, Addr::Edge>;
-            break;
+        case TextureTarget::CubeMap: setKernels<Target::Cube, Addr::Edge, Addr::Edge>(q); break;
         case TextureTarget::Texture2D:
             if (specialisable(s.address[0], w) && specialisable(s.address[1], h))
-                q.fn = pick<Target::TwoD>(addrOf(s.address[0]), addrOf(s.address[1]));
+                pick<Target::TwoD>(q, addrOf(s.address[0]), addrOf(s.address[1]));
             break;
         case TextureTarget::Texture1D:
-            if (specialisable(s.address[0], w))
-                q.fn = addrOf(s.address[0]) == Addr::Edge
-                           ? &sampleQuadKernel<Target::OneD, Addr::Edge, Addr::Edge>
-                           : &sampleQuadKernel<Target::OneD, Addr::Pow2, Addr::Edge>;
+            if (specialisable(s.address[0], w)) pick<Target::OneD>(q, addrOf(s.address[0]), Addr::Edge);
             break;
         default: break;
     }

@@ -27,11 +27,24 @@
 namespace rg::tex::detail {
 
 struct QuadSampler;
+// What a kernel derives from the coordinates and the texture's shape alone: the level
+// choice, and per level used and pixel the tap indices (from the level's data; face
+// included) and packed weight pairs ((256 − α) | α << 16).
+struct QuadFootprint {
+    LevelChoice ch;
+    uint64_t fetches;
+    alignas(16) int32_t i00[2][4], i01[2][4], i10[2][4], i11[2][4];
+    alignas(16) int32_t wx[2][4], wy[2][4];
+};
 // Samples one stage for the four pixels of a quad from its coordinate set `in` (s, t, r, q
 // per pixel, before any divide) into `out` (pixel p in bytes 4p..4p+3, the layout of
 // std::array<Rgba8, 4>); returns the texel fetches the reference would count.
 using QuadSampleFn = uint64_t (*)(const QuadSampler&, const std::array<glm::vec4, 4>& in,
                                   __m128i& out);
+// The kernel in two phases, for stages that share a footprint (sameFootprint).
+using QuadPrepareFn = uint64_t (*)(const QuadSampler&, const std::array<glm::vec4, 4>& in,
+                                   QuadFootprint& fp);
+using QuadGatherFn = __m128i (*)(const QuadSampler&, const QuadFootprint& fp);
 
 // One mipmap level as the kernels address it: face f starts at data + f·faceStride.
 struct LevelView {
@@ -43,6 +56,8 @@ struct LevelView {
 struct QuadSampler {
     static constexpr int kMaxLevels = 16;
     QuadSampleFn fn = nullptr;  // null: the generic path
+    QuadPrepareFn prepare = nullptr;
+    QuadGatherFn gather = nullptr;
     const Texture* texture = nullptr;
     SamplerState sampler{};
     bool projected = false;  // divide by q (1D/2D)
@@ -53,10 +68,18 @@ struct QuadSampler {
     std::array<LevelView, kMaxLevels> level{};
 };
 
+// True when b, fed the same coordinate set, has a's footprint: same kernel, λ parameters,
+// level choice parameters and level extents (the texels may differ). The PEM viewer's
+// two cube maps blended by BLENDFACTORALPHA are the case this is for.
+bool sameFootprint(const QuadSampler& a, const QuadSampler& b);
+
 // The compiled samplers of all stages (TextureUnits holds one, rebuilt by its setters).
 struct CompiledStages {
     std::array<QuadSampler, 16> stage{};
     std::array<uint8_t, 16> stageKernel{};  // quad::StageKernel of each stage (stage_arith.h)
+    // Bit i: stage i reuses stage i − 1's footprint (same coordinate set, sameFootprint);
+    // stage i − 1 then runs its kernel in two phases and keeps the footprint.
+    uint32_t sharesFootprint = 0;
 };
 
 // Chooses the kernel for a stage's texture and sampler, or leaves fn null when the state

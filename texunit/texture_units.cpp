@@ -157,6 +157,10 @@ void TextureUnits::refresh() {
         compiled->stage[size_t(i)] =
             detail::compileQuadSampler(*u.texture, u.sampler, texGen_[u.stage.texCoordIndex].projected,
                                        u.colorTable != nullptr);
+        if (i > 0 && (sampling_ & (1u << (i - 1))) &&
+            units_[size_t(i - 1)].stage.texCoordIndex == u.stage.texCoordIndex &&
+            detail::sameFootprint(compiled->stage[size_t(i - 1)], compiled->stage[size_t(i)]))
+            compiled->sharesFootprint |= 1u << i;
     }
     compiled_ = std::move(compiled);
 }
@@ -382,15 +386,23 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
         bool havePremod = false;
         uint64_t fetched = 0;
         const detail::CompiledStages& compiled = *compiled_;
+        detail::QuadFootprint footprint;  // kept for the next stage when it shares it
         for (int i = 0; i < n; ++i) {
             const StageState& st = units_[size_t(i)].stage;
             r[arg::Texture] = q::ones();
             if (sampling_ & (1u << i)) {
                 const detail::QuadSampler& qs = compiled.stage[size_t(i)];
-                if (qs.fn)
+                if (compiled.sharesFootprint & (1u << i)) {
+                    r[arg::Texture] = qs.gather(qs, footprint);  // stage i − 1's footprint
+                    fetched += footprint.fetches;
+                } else if (compiled.sharesFootprint & (2u << i)) {
+                    fetched += qs.prepare(qs, quad.texCoord[st.texCoordIndex], footprint);
+                    r[arg::Texture] = qs.gather(qs, footprint);
+                } else if (qs.fn) {
                     fetched += qs.fn(qs, quad.texCoord[st.texCoordIndex], r[arg::Texture]);
-                else
+                } else {
                     r[arg::Texture] = q::load(sampleStage(i, quad, path));
+                }
             }
             if (havePremod) {
                 r[arg::Texture] = q::mulDiv255(r[arg::Texture], premod);

@@ -8,6 +8,7 @@
 #include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "tex_test_util.h"
@@ -392,6 +393,74 @@ TEST(TextureUnits, CompiledSamplersMatchReferenceOnEveryKernelAndTheFallback) {
     }
     EXPECT_GT(kernelStates, 800);
     EXPECT_GT(fallbackStates, 150);
+}
+
+// Stages that read the same coordinate set through textures of the same shape with the
+// same sampler share one footprint on the fast path (the PEM viewer's two cube maps under
+// BLENDFACTORALPHA); near misses (another sampler, another shape, another set) must not.
+TEST(TextureUnits, SharedFootprintsMatchReference) {
+    const Profile& g8 = profile(ProfileId::GeForce8800);
+    auto mem = std::make_shared<TextureMemory>(g8);
+    auto texels = [](uint32_t seed) {
+        return [seed](int l, int f, int x, int y, int, int) {
+            const uint32_t h = testing::hash32(seed + uint32_t(((l * 7 + f) * 131 + x) * 977 + y));
+            return Rgba8{uint8_t(h), uint8_t(h >> 8), uint8_t(h >> 16), uint8_t(h >> 24)};
+        };
+    };
+    const TextureDesc shapes[] = {{TextureTarget::CubeMap, TexelFormat::RGBA8, 16, 16, 1, 1, 5},
+                                  {TextureTarget::Texture2D, TexelFormat::RGBA8, 32, 16, 1, 1, 6},
+                                  {TextureTarget::Texture1D, TexelFormat::RGBA8, 64, 1, 1, 1, 7},
+                                  {TextureTarget::CubeMap, TexelFormat::RGBA8, 8, 8, 1, 1, 4}};
+    std::vector<std::array<std::shared_ptr<Texture>, 2>> twins;
+    for (uint32_t i = 0; i < 4; ++i)
+        twins.push_back({makeRgba8(*mem, shapes[i], texels(i * 2)), makeRgba8(*mem, shapes[i], texels(i * 2 + 1))});
+    Rng rng(31);
+    for (int stateI = 0; stateI < 600; ++stateI) {
+        TextureUnits tu;
+        const uint32_t shape = rng.below(3);
+        SamplerState s;
+        for (auto& a : s.address) a = rng.below(2) ? AddressMode::ClampToEdge : AddressMode::Wrap;
+        s.magFilter = FilterMode(rng.below(2));
+        s.minFilter = FilterMode(rng.below(2));
+        s.mipFilter = MipMode(rng.below(3));
+        s.lodBias = rng.below(2) ? 0.0f : rng.uniform(-2, 2);
+        const int n = 2 + int(rng.below(2));
+        for (int i = 0; i < n; ++i) {
+            SamplerState si = s;
+            if (rng.below(6) == 0) si.lodBias += 0.5f;  // a near miss: no sharing
+            const bool otherShape = rng.below(6) == 0;
+            tu.setTexture(i, otherShape ? twins[3][0] : twins[shape][rng.below(2)]);
+            tu.setSampler(i, si);
+            StageState st = randomStage(rng, 1);
+            st.texCoordIndex = uint8_t(rng.below(5) == 0 ? 1 : 0);
+            tu.setStage(i, st);
+        }
+        tu.setTextureFactor({uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next())});
+        uint64_t refFetches = 0, fastFetches = 0;
+        for (int k = 0; k < 30; ++k) {
+            FragmentQuad q;
+            const float scale = std::exp2(rng.uniform(-8, 2));
+            for (int set = 0; set < 2; ++set) {
+                glm::vec4 base(rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2), 1.0f);
+                glm::vec4 dx(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f);
+                glm::vec4 dy(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f);
+                for (int p = 0; p < 4; ++p)
+                    q.texCoord[size_t(set)][size_t(p)] = base + scale * (float(p & 1) * dx + float(p >> 1) * dy);
+            }
+            for (int p = 0; p < 4; ++p)
+                q.diffuse[size_t(p)] = {uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()),
+                                        uint8_t(rng.next())};
+            std::array<Rgba8, 4> ref, fast;
+            tu.resetCounters();
+            tu.shadeQuad(q, ref, Path::Reference);
+            refFetches += tu.counters().texelFetches;
+            tu.resetCounters();
+            tu.shadeQuad(q, fast, Path::Fast);
+            fastFetches += tu.counters().texelFetches;
+            ASSERT_EQ(ref, fast) << "state " << stateI << " quad " << k << " (seed 31)";
+        }
+        ASSERT_EQ(refFetches, fastFetches) << "state " << stateI;
+    }
 }
 
 TEST(TextureUnits, TapQueryReproducesTheSampleAndItsWeightsSumToOne) {
