@@ -2,7 +2,8 @@
 //
 // What maps how (D3D7 → GL):
 //   pre-transformed vertices  glOrtho(0, w, h, 0, 0, −1) and (x, y, z, 1)/rhw, so that z
-//                              reaches the window unchanged and 1/w is interpolated
+//                              reaches the window unchanged and 1/w is interpolated (both
+//                              sample at pixel centres x + ½, docs/hardware.md)
 //   untransformed vertices    MODELVIEW = view·world, PROJECTION = S·P with S turning
 //                              Direct3D's clip z ∈ [0, w] into GL's [−w, w]
 //   viewport, scissor         y flipped (GL counts rows from the bottom); OSMESA_Y_UP = 0
@@ -246,15 +247,19 @@ struct GlPlayer {
         s.scissorTest ? glEnable(GL_SCISSOR_TEST) : glDisable(GL_SCISSOR_TEST);
         glScissor(scissor.x, h - scissor.y - scissor.height, scissor.width, scissor.height);
         glShadeModel(s.shade == ShadeMode::Flat ? GL_FLAT : GL_SMOOTH);
+        // Direct3D's provoking vertex is the first of a list/strip triangle and the second
+        // of a fan triangle: GL's first-vertex convention (ARB_provoking_vertex) exactly.
+        glProvokingVertex(GL_FIRST_VERTEX_CONVENTION);
         s.specularEnable ? glEnable(GL_COLOR_SUM) : glDisable(GL_COLOR_SUM);
-        // Direct3D culls by window-space winding with y down; GL's front face is CCW with
-        // y up, the same triangles: D3DCULL_CW culls what GL calls counter-clockwise.
+        // Direct3D culls by the winding seen on screen (clockwise with y down is clockwise
+        // to the eye); GL's window y points up but the image is the same, so D3DCULL_CW
+        // culls GL's clockwise faces: the back faces when GL_CCW is front.
         if (s.cull == CullMode::None) {
             glDisable(GL_CULL_FACE);
         } else {
             glEnable(GL_CULL_FACE);
             glFrontFace(GL_CCW);
-            glCullFace(s.cull == CullMode::CW ? GL_FRONT : GL_BACK);
+            glCullFace(s.cull == CullMode::CW ? GL_BACK : GL_FRONT);
         }
     }
 
@@ -361,6 +366,8 @@ struct GlPlayer {
             glDepthRange(0, 1);
             glMatrixMode(GL_PROJECTION);
             glLoadIdentity();
+            // Both sample pixel (x, y) at its centre (x + ½, y + ½) (docs/hardware.md, "fill
+            // rule"), so window coordinates pass unchanged.
             glOrtho(0, w, h, 0, 0, -1);
             glMatrixMode(GL_MODELVIEW);
             glLoadIdentity();
@@ -522,8 +529,10 @@ std::string mesaUnsupported(const Trace& trace) {
         if (tex::formatInfo(t.desc.format).isFloat) return "float and depth textures";
     }
     std::array<tex::StageState, tex::kMaxStages> stages{};
+    PipelineState state;
     for (const TraceCommand& c : trace.commands) {
         switch (c.op) {
+            case TraceOp::State: state = c.state; break;
             case TraceOp::ColorTable:
                 if (c.colorTable) return "texture colour tables (SGI_texture_color_table)";
                 break;
@@ -532,6 +541,8 @@ std::string mesaUnsupported(const Trace& trace) {
                 break;
             case TraceOp::Stage: stages[size_t(c.unit)] = c.stage; break;
             case TraceOp::Draw:
+                if (!state.perspectiveColor)
+                    return "colours interpolated without perspective correction (GL always corrects)";
                 for (int i = 0; i < tex::kMaxStages && stages[size_t(i)].colorOp != tex::TextureOp::Disable; ++i) {
                     const tex::StageState& s = stages[size_t(i)];
                     for (tex::TextureOp op : {s.colorOp, s.alphaOp})

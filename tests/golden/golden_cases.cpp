@@ -171,8 +171,11 @@ std::vector<Builder> builders() {
         d.draw(Primitive::TriangleList, VertexSpace::Pretransformed, sliver);
     }});
 
-    b.push_back({{"raster-transform-clip-cull", "world/view/projection, near and far clipping, guard band, CW/CCW culling, flat and Gouraud shading, perspective colour"},
-                 ProfileId::GeForce256, 32, 32, DepthFormat::D24, [](Device& d, TextureMemory&) {
+    for (bool affine : {false, true})
+    b.push_back({{affine ? "raster-affine-colour" : "raster-transform-clip-cull",
+                  affine ? "the same clipped, culled geometry with colours interpolated without perspective correction (perspectiveColor off)"
+                         : "world/view/projection, near and far clipping, guard band, CW/CCW culling, flat and Gouraud shading, perspective-correct colour"},
+                 ProfileId::GeForce256, 32, 32, DepthFormat::D24, [affine](Device& d, TextureMemory&) {
         d.clear(true, {20, 20, 20, 255}, true, 1.0f);
         glm::mat4 proj = glm::perspective(glm::radians(60.0f), 1.0f, 0.5f, 20.0f);
         glm::mat4 view = glm::lookAt(glm::vec3(0.3f, 0.4f, 2.0f), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
@@ -183,7 +186,7 @@ std::vector<Builder> builders() {
                 PipelineState s;
                 s.cull = cull;
                 s.shade = shade;
-                s.perspectiveColor = uint8_t(k % 2);
+                s.perspectiveColor = affine ? 0 : 1;
                 d.setState(s);
                 float o = float(k) * 0.35f - 0.9f;
                 auto v = [&](float x, float y, float z, Rgba8 c) {
@@ -203,7 +206,9 @@ std::vector<Builder> builders() {
                 ++k;
             }
         // Far clipping: a triangle reaching past the far plane.
-        d.setState(PipelineState{CullMode::None});
+        PipelineState last{CullMode::None};
+        last.perspectiveColor = affine ? 0 : 1;
+        d.setState(last);
         std::vector<Vertex> far(3);
         far[0].position = {-3, -1, -30, 1}; far[1].position = {3, -1, -30, 1}; far[2].position = {0, -1, 1, 1};
         far[0].diffuse = {255, 128, 0, 255}; far[1].diffuse = {0, 128, 255, 255}; far[2].diffuse = {128, 255, 128, 255};
@@ -317,32 +322,55 @@ std::vector<Builder> builders() {
         }
     }});
 
-    for (bool alpha : {false, true}) {
-        std::string name = alpha ? "stage-ops-alpha" : "stage-ops-color";
-        b.push_back({{name, std::string("every texture-stage operation (D3DTOP_*, LERP) as the ") +
-                                (alpha ? "alpha" : "colour") + " operation, arguments TEXTURE, DIFFUSE, TFACTOR"},
-                     ProfileId::GeForce3, 30, 20, DepthFormat::None, [alpha](Device& d, TextureMemory& mem) {
+    // The stage ops in two groups: those ARB_texture_env_combine (+ dot3) can express, so
+    // that `retroglass conform` compares them with Mesa, and the Direct3D-only ones.
+    auto glExpressible = [](TextureOp o) {
+        switch (o) {
+            case TextureOp::AddSmooth: case TextureOp::BlendTextureAlphaPM: case TextureOp::PreModulate:
+            case TextureOp::ModulateAlphaAddColor: case TextureOp::ModulateColorAddAlpha:
+            case TextureOp::ModulateInvAlphaAddColor: case TextureOp::ModulateInvColorAddAlpha:
+                return false;
+            default: return true;
+        }
+    };
+    for (int variant = 0; variant < 3; ++variant) {
+        const bool alpha = variant == 1, d3dOnly = variant == 2;
+        std::string name = d3dOnly ? "stage-ops-d3d-only" : alpha ? "stage-ops-alpha" : "stage-ops-color";
+        std::string covers = d3dOnly ? "the Direct3D-only texture-stage operations (ADDSMOOTH, BLENDTEXTUREALPHAPM, "
+                                       "PREMODULATE, MODULATE*ADD*) as colour and alpha operations, DOTPRODUCT3 as the alpha operation"
+                                     : std::string("every texture-stage operation GL 1.3 combine can express as the ") +
+                                           (alpha ? "alpha" : "colour") + " operation, arguments TEXTURE, DIFFUSE, TFACTOR";
+        b.push_back({{name, covers},
+                     ProfileId::GeForce3, 30, d3dOnly ? 25 : 20, DepthFormat::None, [alpha, d3dOnly, glExpressible](Device& d, TextureMemory& mem) {
             d.setState(plain());
             d.clear(true, {0, 0, 0, 0}, false, 1.0f);
             auto& tu = d.textureUnits();
             tu.setTexture(0, rgbaTexture(mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 4, 4, 1, 1, 1}, 7));
             tu.setSampler(0, sampler(FilterMode::Nearest));
             tu.setTextureFactor({70, 140, 210, 100});
-            for (int op = 1; op < int(TextureOp::Count); ++op) {
+            // The D3D-only trace draws its colour-op cells in the first rows and its alpha-op
+            // cells (with DOTPRODUCT3, whose alpha GL's DOT3_RGB does not define) below.
+            for (int cell = 1; cell < 2 * int(TextureOp::Count); ++cell) {
+                const int op = cell % int(TextureOp::Count);
+                const bool alphaCell = d3dOnly ? cell >= int(TextureOp::Count) : alpha;
+                if (op == 0 || (!d3dOnly && cell >= int(TextureOp::Count))) continue;
                 TextureOp o = TextureOp(op);
                 bool colorOnly = o == TextureOp::ModulateAlphaAddColor || o == TextureOp::ModulateColorAddAlpha ||
                                  o == TextureOp::ModulateInvAlphaAddColor || o == TextureOp::ModulateInvColorAddAlpha;
-                if (alpha && colorOnly) continue;
-                StageState st = alpha ? stage(TextureOp::SelectArg1, arg::Texture, arg::Diffuse, o, arg::Texture, arg::Diffuse)
+                if (alphaCell && colorOnly) continue;
+                const bool glOk = glExpressible(o) && !(alphaCell && o == TextureOp::DotProduct3);
+                if (glOk == d3dOnly) continue;
+                StageState st = alphaCell ? stage(TextureOp::SelectArg1, arg::Texture, arg::Diffuse, o, arg::Texture, arg::Diffuse)
                                       : stage(o, arg::Texture, arg::Diffuse, TextureOp::SelectArg1, arg::Texture, arg::Diffuse);
                 st.colorArg0 = st.alphaArg0 = arg::TFactor;
                 tu.setStage(0, st);
                 // Alpha results are made visible by writing them through the blend.
                 PipelineState s = plain();
-                if (alpha) { s.blend = 1; s.srcBlend = BlendFactor::SrcAlpha; s.dstBlend = BlendFactor::Zero; }
+                if (alphaCell) { s.blend = 1; s.srcBlend = BlendFactor::SrcAlpha; s.dstBlend = BlendFactor::Zero; }
                 d.setState(s);
-                int cx = (op - 1) % 6, cy = (op - 1) / 6;
-                rect(d, float(5 * cx), float(5 * cy), float(5 * cx + 5), float(5 * cy + 5), kCorners, {0, 0}, {1, 1});
+                const int slot = d3dOnly ? (alphaCell ? 12 : 0) + (op % 12) : op - 1;
+                int cx = slot % 6, cy = slot / 6;
+                rect(d, float(5 * cx), float(5 * cy), float(5 * cx + 5), float(5 * cy + 5), kCorners, {0.03f, 0.07f}, {1.01f, 0.97f});  // no texel-edge ties: GL rounds those its own way
             }
         }});
     }
@@ -538,7 +566,7 @@ std::vector<Builder> builders() {
         StageState s0 = stage(TextureOp::SelectArg1, arg::Texture, arg::Diffuse, TextureOp::SelectArg1, arg::Texture, arg::Diffuse);
         StageState s1 = stage(TextureOp::Modulate2x, arg::Texture, arg::Current, TextureOp::Modulate, arg::Texture, arg::Current);
         s1.texCoordIndex = 1;
-        StageState s2 = stage(TextureOp::AddSmooth, arg::Texture, arg::Current, TextureOp::SelectArg2, arg::Texture, arg::Current);
+        StageState s2 = stage(TextureOp::Add, arg::Texture, arg::Current, TextureOp::SelectArg2, arg::Texture, arg::Current);
         s2.texCoordIndex = 2;
         StageState s3 = stage(TextureOp::BlendTextureAlpha, arg::Texture, arg::Current, TextureOp::Add, arg::Texture, arg::Current);
         s3.texCoordIndex = 3;
