@@ -163,11 +163,11 @@ inline __m128 select(__m128 mask, __m128 a, __m128 b) {  // mask ? a : b
     return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
 }
 
-// Coordinates of the four pixels (s, t per lane; cube: on each pixel's own face) and
-// the biased, clamped λ.
+// Coordinates of the four pixels (s, t per lane; cube: on each pixel's own face) and the
+// level choice from the biased, clamped λ — or the constant choice when λ cannot matter.
 template <Target kTarget>
-inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
-                           __m128& s, __m128& t, int face[4], __m128i& face4) {
+inline LevelChoice projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
+                               __m128& s, __m128& t, int face[4], __m128i& face4) {
     __m128 x = _mm_loadu_ps(&in[0][0]), y = _mm_loadu_ps(&in[1][0]);
     __m128 z = _mm_loadu_ps(&in[2][0]), w = _mm_loadu_ps(&in[3][0]);
     _MM_TRANSPOSE4_PS(x, y, z, w);
@@ -200,6 +200,7 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
         const __m128 pos = select(isX, px, select(isY, py, pz));
         face4 = _mm_add_epi32(fi, _mm_andnot_si128(_mm_castps_si128(pos), _mm_set1_epi32(1)));
         _mm_storeu_si128(reinterpret_cast<__m128i*>(face), face4);
+        if (qs.constantChoice) return qs.choice;
         // λ from all four pixels measured on pixel 0's face.
         float s1 = lane<1>(s), t1 = lane<1>(t), s2 = lane<2>(s), t2 = lane<2>(t);
         if (face[1] != face[0]) {
@@ -223,11 +224,12 @@ inline int32_t projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>
         t = y;
         for (int p = 0; p < 4; ++p) face[p] = 0;
         face4 = _mm_setzero_si128();
+        if (qs.constantChoice) return qs.choice;
         lambda = quadLambdaInline(lane<0>(s), lane<1>(s), lane<2>(s), lane<0>(t), lane<1>(t),
                                   lane<2>(t), qs.baseSizeF[0], qs.baseSizeF[1],
                                   kTarget == Target::OneD ? 1 : 2);
     }
-    return std::clamp(lambda + qs.lodBias, qs.lodMin, qs.lodMax);
+    return chooseLevelsInline(qs.levels, std::clamp(lambda + qs.lodBias, qs.lodMin, qs.lodMax));
 }
 
 // Phase 1 of a kernel: everything that depends on the coordinates and the texture's
@@ -240,8 +242,7 @@ template <Target kTarget, Addr kS, Addr kT>
     __m128 s, t;
     int face[4];
     __m128i face4;
-    const int32_t lambda = projectQuad<kTarget>(qs, in, s, t, face, face4);
-    const LevelChoice ch = chooseLevelsInline(qs.levels, lambda);
+    const LevelChoice ch = projectQuad<kTarget>(qs, in, s, t, face, face4);
     fp.ch = ch;
     auto store = [](int32_t* dst, __m128i v) { _mm_store_si128(reinterpret_cast<__m128i*>(dst), v); };
     const int nLevels = ch.blend ? 2 : 1;
@@ -361,6 +362,7 @@ void pick(QuadSampler& q, Addr s, Addr t) {
 
 bool sameFootprint(const QuadSampler& a, const QuadSampler& b) {
     if (!a.fn || a.prepare != b.prepare || a.projected != b.projected || a.lodBias != b.lodBias ||
+        a.constantChoice != b.constantChoice ||
         a.lodMin != b.lodMin || a.lodMax != b.lodMax || a.baseSize != b.baseSize ||
         a.levels.base != b.levels.base || a.levels.q != b.levels.q || a.levels.c != b.levels.c ||
         a.levels.mag != b.levels.mag || a.levels.min != b.levels.min || a.levels.mip != b.levels.mip ||
@@ -386,6 +388,9 @@ QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool pro
     q.baseSizeF[0] = float(q.baseSize[0]);
     q.baseSizeF[1] = float(q.baseSize[1]);
     q.levels = levelParams(t.levels(), s);
+    // Without mipmaps and with one filter both ways, every λ chooses the same (level base).
+    q.constantChoice = s.mipFilter == MipMode::None && s.magFilter == s.minFilter;
+    q.choice = chooseLevelsInline(q.levels, 0);
     // biasAndClampLambda with its three conversions done once.
     q.lodBias = lodFixedFromFloat(s.lodBias);
     q.lodMin = lodFixedFromFloat(s.minLod);
