@@ -707,7 +707,7 @@ const std::vector<GoldenCase>& goldenCases() {
     return cases;
 }
 
-std::vector<uint8_t> buildGoldenTrace(const std::string& name) {
+std::vector<uint8_t> buildGoldenTrace(const std::string& name, Framebuffer* live) {
     for (const Builder& b : allBuilders()) {
         if (b.info.name != name) continue;
         const Profile& p = profile(b.profile);
@@ -720,6 +720,7 @@ std::vector<uint8_t> buildGoldenTrace(const std::string& name) {
         b.build(dev, mem);
         dev.setRecorder(nullptr);
         rec->finish();
+        if (live) *live = dev.framebuffer();
         return rec->bytes();
     }
     throw Error("unknown golden trace '" + name + "'");

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "rasterizer/framebuffer.h"
+
 namespace rg::golden {
 
 struct GoldenCase {
@@ -16,7 +18,8 @@ struct GoldenCase {
 };
 
 const std::vector<GoldenCase>& goldenCases();
-// The trace bytes of case `name` (throws rg::Error for an unknown name).
-std::vector<uint8_t> buildGoldenTrace(const std::string& name);
+// The trace bytes of case `name` (throws rg::Error for an unknown name). `live`, when
+// given, receives the capturing device's framebuffer: what a replay must reproduce.
+std::vector<uint8_t> buildGoldenTrace(const std::string& name, raster::Framebuffer* live = nullptr);
 
 }  // namespace rg::golden

@@ -16,10 +16,14 @@ using testing::makeRgba8;
 using testing::Rng;
 
 TEST(ColorTable, IndexIsRoundOfClampTimesNMinus1) {
-    for (size_t n : {size_t(1), size_t(2), size_t(3), size_t(4), size_t(16), size_t(100), size_t(256)})
-        for (int v = 0; v < 256; ++v)
-            ASSERT_EQ(colorTableIndex(uint8_t(v), n), uint32_t(std::floor(v / 255.0 * double(n - 1) + 0.5)))
+    // Exhaustive: every 8-bit component against every table size 1..256 (65,536 pairs),
+    // round(v/255·(N−1)) with halves rounded up, as a quotient and remainder in integers.
+    for (size_t n = 1; n <= 256; ++n)
+        for (int v = 0; v < 256; ++v) {
+            const uint32_t q = uint32_t(v) * uint32_t(n - 1);
+            ASSERT_EQ(colorTableIndex(uint8_t(v), n), q / 255 + (2 * (q % 255) >= 255 ? 1 : 0))
                 << "v=" << v << " N=" << n;
+        }
     EXPECT_EQ(colorTableIndex(42, 4), 0u);  // 0.494 → 0
     EXPECT_EQ(colorTableIndex(43, 4), 1u);  // 0.506 → 1
 }
