@@ -3,9 +3,12 @@
 //
 // shadeQuad per enabled stage: project the stage's coordinate set (q divide, or cube face
 // selection, or none for 4D), one λ for the quad, filter each pixel (tap list on the
-// reference path, sampleFast on the fast path: same bytes), colour table, then the
-// stage's colour and alpha operations. const and free of shared mutable state except a
-// relaxed atomic fetch counter, so the rasterizer may call it from many threads.
+// reference path; on the fast path the compiled per-quad kernel of filter_quad.cpp, or
+// sampleQuadFast for the other states: same bytes), colour table, then the stage's colour
+// and alpha operations (per pixel on the reference path, SSE2 on the whole quad on the
+// fast path). The setters recompile the per-stage kernels (refresh), so shadeQuad only
+// reads state. const and free of shared mutable state except the fetch counter's
+// per-thread shards, so the rasterizer may call it from many threads.
 #include "texunit/texture_units.h"
 
 #include <string>
