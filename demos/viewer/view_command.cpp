@@ -140,6 +140,7 @@ int runView(const ViewOptions& o) {
     if (!o.replay.empty() && !o.record.empty())
         throw Error("--replay and --record together: record a new session without --replay");
     if (o.headless) return runHeadlessReplay(o);
+    requireDisplay();  // before the demo loads (or precomputes) for nothing
     std::string demoName = o.demo;
     Recording replay;
     if (!o.replay.empty()) {

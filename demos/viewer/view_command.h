@@ -34,6 +34,8 @@ int runView(const ViewOptions& options);
 void writeFramebufferPng(const std::string& path, const raster::Framebuffer& fb);
 void writePixelsPng(const std::string& path, int width, int height, const std::vector<Rgba8>& pixels);
 
+// Throws rg::Error when there is no display to open a window on (viewer_window.cpp).
+void requireDisplay();
 // The window (viewer_window.cpp); returns the exit status.
 int runWindow(ViewerSession& session, const ViewOptions& options);
 

@@ -59,12 +59,25 @@ struct Hud {
 
 }  // namespace
 
-int runWindow(ViewerSession& session, const ViewOptions& o) {
-    // ---- window -------------------------------------------------------------------------
-    SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
-    if (SDL_Init(SDL_INIT_VIDEO | SDL_INIT_EVENTS) != 0)
+void requireDisplay() {
+    if (SDL_Init(SDL_INIT_VIDEO) != 0)
         throw Error(std::string("SDL_Init: ") + SDL_GetError() +
                     " (no display? set DISPLAY, or use --replay FILE --headless)");
+    // Without a display SDL falls back to its invisible offscreen driver; a window nobody
+    // sees would run until killed. Only an explicit SDL_VIDEODRIVER may choose it.
+    const char* driver = SDL_GetCurrentVideoDriver();
+    const std::string d = driver ? driver : "";
+    SDL_Quit();
+    if ((d == "offscreen" || d == "dummy") && !SDL_getenv("SDL_VIDEODRIVER"))
+        throw Error("no display to open a window on (SDL chose its '" + d +
+                    "' driver): set DISPLAY, or replay a recording with --replay FILE --headless");
+}
+
+int runWindow(ViewerSession& session, const ViewOptions& o) {
+    // ---- window -------------------------------------------------------------------------
+    requireDisplay();
+    SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
+    if (SDL_Init(SDL_INIT_VIDEO | SDL_INIT_EVENTS) != 0) throw Error(std::string("SDL_Init: ") + SDL_GetError());
     auto [fbW, fbH] = session.demo().frameSize();
     const int winW = fbW + kPanelWidth, winH = std::max(fbH, 760);
     std::string title = "retroglass view " + session.demo().name() + " — " + session.demo().title();
