@@ -50,14 +50,19 @@ viewer=$!
 wid=$(xdotool search --sync --name "retroglass view pem" | head -1)
 [ -n "$wid" ] || fail "no viewer window appeared"
 xdotool windowfocus --sync "$wid"
-# Between two samples (3 passes), a sample step, off the plane of the samples, a screenshot.
-xdotool key --delay 50 Right Right Page_Up Right Up Up F12 Escape
+# Between two samples (3 passes), a sample step, off the plane of the samples; a left
+# drag (orbit) and a wheel notch (dolly) over the framebuffer; a screenshot.
+xdotool key --delay 50 Right Right Page_Up Right Up Up
+xdotool mousemove --window "$wid" 320 240 mousedown 1 mousemove --window "$wid" 300 230 \
+    mousemove --window "$wid" 290 236 mouseup 1 click 4
+xdotool key --delay 50 F12 Escape
 wait "$viewer" || { cat run/view.log; fail "the viewer exited with an error"; }
 viewer=
 cat run/view.log
 
 grep -q " screenshot$" run/input.txt || fail "no screenshot in the recording (keys not delivered?)"
 grep -q " orbit " run/input.txt || fail "no orbit in the recording (keys not delivered?)"
+grep -q " dolly " run/input.txt || fail "no dolly in the recording (wheel not delivered?)"
 shot=$(ls run/shots/pem_*.png | grep -v _window | head -1)
 frame=$(basename "$shot" .png | sed 's/pem_//')
 [ -f "run/shots/pem_${frame}_window.png" ] || fail "no window screenshot"
