@@ -47,7 +47,7 @@ echo "Xvfb on $DISPLAY"
 # --frames bounds the run should the keys never arrive (then the checks below fail).
 "$rg" view pem --record run/input.txt --shots run/shots --frames 600 >run/view.log 2>&1 &
 viewer=$!
-wid=$(xdotool search --sync --name "retroglass view pem" | head -1)
+wid=$(xdotool search --sync --onlyvisible --name "retroglass view pem" | head -1)
 [ -n "$wid" ] || fail "no viewer window appeared"
 xdotool windowfocus --sync "$wid"
 # Between two samples (3 passes), a sample step, off the plane of the samples; a left
