@@ -53,9 +53,6 @@ void rect(Device& d, float x0, float y0, float x1, float y1, std::array<Rgba8, 4
                              pv(x0, y1, c[3], {st0.x, st1.y, 0, 1}, z1)};
     d.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, v);
 }
-void rect(Device& d, float x0, float y0, float x1, float y1, Rgba8 c) {
-    rect(d, x0, y0, x1, y1, {c, c, c, c});
-}
 
 Rgba8 pattern(uint32_t seed, int x, int y, int z = 0, int w = 0) {
     uint32_t h = mix(seed * 7919u + uint32_t(x) * 31u + uint32_t(y) * 1031u + uint32_t(z) * 7u +
@@ -88,7 +85,8 @@ std::shared_ptr<Texture> packedTexture(TextureMemory& mem, TextureDesc d, uint32
     for (int l = 0; l < t->levels(); ++l)
         for (int f = 0; f < t->faces(); ++f) {
             const auto& s = t->levelSize(l);
-            std::vector<uint8_t> bytes(size_t(s[0]) * s[1] * s[2] * s[3] * size_t(bpt));
+            const size_t count = size_t(s[0]) * size_t(s[1]) * size_t(s[2]) * size_t(s[3]);
+            std::vector<uint8_t> bytes(count * size_t(bpt));
             for (size_t i = 0; i < bytes.size(); ++i)
                 bytes[i] = uint8_t(mix(seed + uint32_t(i) * 977u + uint32_t(l) * 31u + uint32_t(f)));
             mem.upload(*t, l, f, std::span<const uint8_t>(bytes));
