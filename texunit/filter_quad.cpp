@@ -166,8 +166,9 @@ inline __m128 select(__m128 mask, __m128 a, __m128 b) {  // mask ? a : b
 // Coordinates of the four pixels (s, t per lane; cube: on each pixel's own face) and the
 // level choice from the biased, clamped λ — or the constant choice when λ cannot matter.
 template <Target kTarget>
-inline LevelChoice projectQuad(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
-                               __m128& s, __m128& t, int face[4], __m128i& face4) {
+[[gnu::always_inline]] inline LevelChoice projectQuad(const QuadSampler& qs,
+                                                     const std::array<glm::vec4, 4>& in, __m128& s,
+                                                     __m128& t, int face[4], __m128i& face4) {
     __m128 x = _mm_loadu_ps(&in[0][0]), y = _mm_loadu_ps(&in[1][0]);
     __m128 z = _mm_loadu_ps(&in[2][0]), w = _mm_loadu_ps(&in[3][0]);
     _MM_TRANSPOSE4_PS(x, y, z, w);
