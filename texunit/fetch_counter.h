@@ -4,12 +4,13 @@
 // sums the shards (a count, so the order of the additions does not matter).
 //
 // A thread that owns its shard index outright (claimed from a process-wide bitmap for the
-// thread's lifetime, so no other live thread writes that shard of any counter) adds with a
-// plain load and store: no lock prefix, which on x86 is a full barrier that drains the store
-// buffer once per quad. Ownership passes between threads through the bitmap's
-// acquire/release, so a later owner continues from the earlier one's value. Threads beyond
-// kShards share the remaining shards with an atomic add, as before. The counts are exact
-// either way; readers (counters(), after the draw's threads have joined) see every add.
+// thread's lifetime, so no other live thread writes that shard of any counter) adds with
+// a plain load and store: no lock prefix, which on x86 is a full barrier that drains the
+// store buffer once per quad. Ownership passes between threads through the bitmap's
+// acquire/release, so a later owner continues from the earlier one's value. Threads
+// beyond kShards share the remaining shards with an atomic add, as before. The counts are
+// exact either way; readers (counters(), after the draw's threads have joined) see every
+// add.
 #pragma once
 
 #include <array>
@@ -34,7 +35,8 @@ struct FetchCounter {
                 for (;;) {
                     if (~used == 0) {  // all owned: share one, atomically
                         static std::atomic<unsigned> next{0};
-                        slot = kShards + next.fetch_add(1, std::memory_order_relaxed) % kShards;
+                        slot = kShards +
+                               next.fetch_add(1, std::memory_order_relaxed) % kShards;
                         return;
                     }
                     const unsigned i = unsigned(__builtin_ctzll(~used));

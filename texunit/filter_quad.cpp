@@ -33,9 +33,9 @@ enum class Target : uint8_t { OneD, TwoD, Cube };
 enum class Addr : uint8_t { Edge, Pow2 };
 
 // ---- addressing, four pixels per register ------------------------------------------
-// The texel coordinates of the quad's four pixels on one level: toSubTexel, floorToInt and
-// addressTexel lane for lane (the same IEEE operations as the scalar code: mulps is mulss,
-// cvttps2dq is the int32 cast, min/max of a non-NaN value are std::clamp).
+// The texel coordinates of the quad's four pixels on one level: toSubTexel, floorToInt
+// and addressTexel lane for lane (the same IEEE operations as the scalar code: mulps is
+// mulss, cvttps2dq is the int32 cast, min/max of a non-NaN value are std::clamp).
 template <Addr kA>
 inline __m128i address4(__m128i i, int32_t n) {
     if constexpr (kA == Addr::Edge) {
@@ -64,13 +64,15 @@ inline __m128i nearestLanes(__m128 c, int32_t n) {
     return address4<kA>(_mm_srai_epi32(subTexel4(c, n), kSubTexelBits), n);
 }
 
-// axisFootprint(Linear) of the four pixels: texel indices and packed weight pairs per lane.
+// axisFootprint(Linear) of the four pixels: texel indices and packed weight pairs per
+// lane.
 struct AxisLanes {
     __m128i i0, i1, weights;
 };
 template <Addr kA>
 inline AxisLanes linearLanes(__m128 c, int32_t n) {
-    const __m128i u = _mm_sub_epi32(subTexel4(c, n), _mm_set1_epi32(1 << (kSubTexelBits - 1)));
+    const __m128i u =
+        _mm_sub_epi32(subTexel4(c, n), _mm_set1_epi32(1 << (kSubTexelBits - 1)));
     const __m128i b = _mm_srai_epi32(u, kSubTexelBits);
     const __m128i frac = _mm_and_si128(u, _mm_set1_epi32((1 << kSubTexelBits) - 1));
     return {address4<kA>(b, n), address4<kA>(_mm_add_epi32(b, _mm_set1_epi32(1)), n),
@@ -81,7 +83,8 @@ inline AxisLanes linearLanes(__m128 c, int32_t n) {
 // only the 32×32 → 64 multiply of lanes 0 and 2.
 inline __m128i mulLanes(__m128i a, uint32_t b) {
     const __m128i bv = _mm_set1_epi32(int32_t(b));
-    const __m128i even = _mm_mul_epu32(a, bv), odd = _mm_mul_epu32(_mm_srli_epi64(a, 32), bv);
+    const __m128i even = _mm_mul_epu32(a, bv),
+                  odd = _mm_mul_epu32(_mm_srli_epi64(a, 32), bv);
     return _mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
                               _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)));
 }
@@ -97,13 +100,16 @@ inline __m128i weightPair(int32_t w) {
     return _mm_set1_epi32(int32_t((uint32_t(w) << 16) | uint32_t(256 - w)));
 }
 // Interleaves the int16 lanes of p = (a0 a1 a2 a3 b0 b1 b2 b3) into (a0 b0 a1 b1 ...).
-inline __m128i interleaveHalves(__m128i p) { return _mm_unpacklo_epi16(p, _mm_srli_si128(p, 8)); }
+inline __m128i interleaveHalves(__m128i p) {
+    return _mm_unpacklo_epi16(p, _mm_srli_si128(p, 8));
+}
 
 // Σ wx·(t − 128) over taps a (weight 256 − α) and b (weight α), `w` = weightPair(α):
 // R − 2^15 per channel.
 inline __m128i pairBiased(__m128i a, __m128i b, __m128i w) {
-    const __m128i t = _mm_sub_epi16(_mm_unpacklo_epi8(_mm_unpacklo_epi8(a, b), _mm_setzero_si128()),
-                                    _mm_set1_epi16(128));
+    const __m128i t =
+        _mm_sub_epi16(_mm_unpacklo_epi8(_mm_unpacklo_epi8(a, b), _mm_setzero_si128()),
+                      _mm_set1_epi16(128));
     return _mm_madd_epi16(t, w);
 }
 
@@ -129,11 +135,13 @@ inline __m128i finishPair(__m128i rBiased) {  // 8 weight bits, R − 2^15
     return _mm_srai_epi32(_mm_add_epi32(rBiased, _mm_set1_epi32(32768 + 128)), 8);
 }
 inline __m128i finishBilinear(__m128i sBiased) {  // 16 weight bits, S − 2^23
-    return _mm_srai_epi32(_mm_add_epi32(sBiased, _mm_set1_epi32((1 << 23) + (1 << 15))), 16);
+    return _mm_srai_epi32(_mm_add_epi32(sBiased, _mm_set1_epi32((1 << 23) + (1 << 15))),
+                          16);
 }
 // Two levels of 8-bit-weight sums (R − 2^15 each), blended by f: 16 weight bits.
 inline __m128i finishPairBlend(__m128i r0, __m128i r1, int32_t f) {
-    const __m128i s = _mm_madd_epi16(interleaveHalves(_mm_packs_epi32(r0, r1)), weightPair(f));
+    const __m128i s =
+        _mm_madd_epi16(interleaveHalves(_mm_packs_epi32(r0, r1)), weightPair(f));
     return _mm_srai_epi32(_mm_add_epi32(s, _mm_set1_epi32((1 << 23) + (1 << 15))), 16);
 }
 // Two levels of bilinear sums (S − 2^23 each), blended by f: 24 weight bits.
@@ -142,8 +150,9 @@ inline __m128i finishBilinearBlend(__m128i s0, __m128i s1, int32_t f) {
     const __m128i hi = _mm_packs_epi32(_mm_srai_epi32(s0, 8), _mm_srai_epi32(s1, 8));
     const __m128i m = _mm_set1_epi32(255);
     const __m128i lo = _mm_packs_epi32(_mm_and_si128(s0, m), _mm_and_si128(s1, m));
-    const __m128i sum = _mm_add_epi32(_mm_slli_epi32(_mm_madd_epi16(interleaveHalves(hi), w), 8),
-                                      _mm_madd_epi16(interleaveHalves(lo), w));
+    const __m128i sum =
+        _mm_add_epi32(_mm_slli_epi32(_mm_madd_epi16(interleaveHalves(hi), w), 8),
+                      _mm_madd_epi16(interleaveHalves(lo), w));
     // + 2^31 (the bias) + 2^23 (the rounding half), wrapping; the true value is < 2^32.
     const __m128i t = _mm_add_epi32(sum, _mm_set1_epi32(int32_t(0x80800000u)));
     return _mm_srli_epi32(t, 24);
@@ -167,8 +176,9 @@ inline __m128 select(__m128 mask, __m128 a, __m128 b) {  // mask ? a : b
 // level choice from the biased, clamped λ — or the constant choice when λ cannot matter.
 template <Target kTarget>
 [[gnu::always_inline]] inline LevelChoice projectQuad(const QuadSampler& qs,
-                                                     const std::array<glm::vec4, 4>& in, __m128& s,
-                                                     __m128& t, int face[4], __m128i& face4) {
+                                                      const std::array<glm::vec4, 4>& in,
+                                                      __m128& s, __m128& t, int face[4],
+                                                      __m128i& face4) {
     __m128 x = _mm_loadu_ps(&in[0][0]), y = _mm_loadu_ps(&in[1][0]);
     __m128 z = _mm_loadu_ps(&in[2][0]), w = _mm_loadu_ps(&in[3][0]);
     _MM_TRANSPOSE4_PS(x, y, z, w);
@@ -182,8 +192,10 @@ template <Target kTarget>
         const __m128 zero = _mm_setzero_ps();
         const __m128 isX = _mm_and_ps(_mm_cmpge_ps(ax, ay), _mm_cmpge_ps(ax, az));
         const __m128 isY = _mm_andnot_ps(isX, _mm_cmpge_ps(ay, az));
-        const __m128 isZ = _mm_andnot_ps(_mm_or_ps(isX, isY), _mm_castsi128_ps(_mm_set1_epi32(-1)));
-        const __m128 px = _mm_cmpge_ps(x, zero), py = _mm_cmpge_ps(y, zero), pz = _mm_cmpge_ps(z, zero);
+        const __m128 isZ =
+            _mm_andnot_ps(_mm_or_ps(isX, isY), _mm_castsi128_ps(_mm_set1_epi32(-1)));
+        const __m128 px = _mm_cmpge_ps(x, zero), py = _mm_cmpge_ps(y, zero),
+                     pz = _mm_cmpge_ps(z, zero);
         // The table: +X (−z, −y, x), −X (z, −y, x), +Y (x, z, y), −Y (x, −z, y),
         // +Z (x, −y, z), −Z (−x, −y, z).
         const __m128 sc = select(isX, select(px, flipSign(z), z),
@@ -195,22 +207,25 @@ template <Target kTarget>
         const __m128 one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
         s = select(ok, _mm_mul_ps(_mm_add_ps(_mm_div_ps(sc, a), one), half), half);
         t = select(ok, _mm_mul_ps(_mm_add_ps(_mm_div_ps(tc, a), one), half), half);
-        const __m128i fi = _mm_or_si128(
-            _mm_and_si128(_mm_castps_si128(isY), _mm_set1_epi32(2)),
-            _mm_and_si128(_mm_castps_si128(isZ), _mm_set1_epi32(4)));
+        const __m128i fi =
+            _mm_or_si128(_mm_and_si128(_mm_castps_si128(isY), _mm_set1_epi32(2)),
+                         _mm_and_si128(_mm_castps_si128(isZ), _mm_set1_epi32(4)));
         const __m128 pos = select(isX, px, select(isY, py, pz));
-        face4 = _mm_add_epi32(fi, _mm_andnot_si128(_mm_castps_si128(pos), _mm_set1_epi32(1)));
+        face4 =
+            _mm_add_epi32(fi, _mm_andnot_si128(_mm_castps_si128(pos), _mm_set1_epi32(1)));
         _mm_storeu_si128(reinterpret_cast<__m128i*>(face), face4);
         if (qs.constantChoice) return qs.choice;
         // λ from all four pixels measured on pixel 0's face.
         float s1 = lane<1>(s), t1 = lane<1>(t), s2 = lane<2>(s), t2 = lane<2>(t);
         if (face[1] != face[0]) {
-            const CubeCoord cc = detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[1]));
+            const CubeCoord cc =
+                detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[1]));
             s1 = cc.s;
             t1 = cc.t;
         }
         if (face[2] != face[0]) {
-            const CubeCoord cc = detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[2]));
+            const CubeCoord cc =
+                detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[2]));
             s2 = cc.s;
             t2 = cc.t;
         }
@@ -226,11 +241,12 @@ template <Target kTarget>
         for (int p = 0; p < 4; ++p) face[p] = 0;
         face4 = _mm_setzero_si128();
         if (qs.constantChoice) return qs.choice;
-        lambda = quadLambdaInline(lane<0>(s), lane<1>(s), lane<2>(s), lane<0>(t), lane<1>(t),
-                                  lane<2>(t), qs.baseSizeF[0], qs.baseSizeF[1],
-                                  kTarget == Target::OneD ? 1 : 2);
+        lambda = quadLambdaInline(lane<0>(s), lane<1>(s), lane<2>(s), lane<0>(t),
+                                  lane<1>(t), lane<2>(t), qs.baseSizeF[0],
+                                  qs.baseSizeF[1], kTarget == Target::OneD ? 1 : 2);
     }
-    return chooseLevelsInline(qs.levels, std::clamp(lambda + qs.lodBias, qs.lodMin, qs.lodMax));
+    return chooseLevelsInline(qs.levels,
+                              std::clamp(lambda + qs.lodBias, qs.lodMin, qs.lodMax));
 }
 
 // Phase 1 of a kernel: everything that depends on the coordinates and the texture's
@@ -245,19 +261,23 @@ template <Target kTarget, Addr kS, Addr kT>
     __m128i face4;
     const LevelChoice ch = projectQuad<kTarget>(qs, in, s, t, face, face4);
     fp.ch = ch;
-    auto store = [](int32_t* dst, __m128i v) { _mm_store_si128(reinterpret_cast<__m128i*>(dst), v); };
+    auto store = [](int32_t* dst, __m128i v) {
+        _mm_store_si128(reinterpret_cast<__m128i*>(dst), v);
+    };
     const int nLevels = ch.blend ? 2 : 1;
     for (int li = 0; li < nLevels; ++li) {
         const LevelView& L = qs.level[size_t(li == 0 ? ch.level0 : ch.level1)];
-        const __m128i faceBase = kTarget == Target::Cube ? mulLanes(face4, L.faceStride)
-                                                         : _mm_setzero_si128();
+        const __m128i faceBase =
+            kTarget == Target::Cube ? mulLanes(face4, L.faceStride) : _mm_setzero_si128();
         if (ch.filter == FilterMode::Linear) {
             const AxisLanes ax = linearLanes<kS>(s, L.width);
             store(fp.wx[li], ax.weights);
             if constexpr (kTwoD) {
                 const AxisLanes ay = linearLanes<kT>(t, L.height);
-                const __m128i row0 = _mm_add_epi32(faceBase, mulLanes(ay.i0, uint32_t(L.width)));
-                const __m128i row1 = _mm_add_epi32(faceBase, mulLanes(ay.i1, uint32_t(L.width)));
+                const __m128i row0 =
+                    _mm_add_epi32(faceBase, mulLanes(ay.i0, uint32_t(L.width)));
+                const __m128i row1 =
+                    _mm_add_epi32(faceBase, mulLanes(ay.i1, uint32_t(L.width)));
                 store(fp.i00[li], _mm_add_epi32(row0, ax.i0));
                 store(fp.i01[li], _mm_add_epi32(row0, ax.i1));
                 store(fp.i10[li], _mm_add_epi32(row1, ax.i0));
@@ -269,11 +289,14 @@ template <Target kTarget, Addr kS, Addr kT>
             }
         } else {
             __m128i i = nearestLanes<kS>(s, L.width);
-            if constexpr (kTwoD) i = _mm_add_epi32(i, mulLanes(nearestLanes<kT>(t, L.height), uint32_t(L.width)));
+            if constexpr (kTwoD)
+                i = _mm_add_epi32(
+                    i, mulLanes(nearestLanes<kT>(t, L.height), uint32_t(L.width)));
             store(fp.i00[li], _mm_add_epi32(faceBase, i));
         }
     }
-    const uint64_t perPixel = (ch.filter == FilterMode::Linear ? (kTwoD ? 4 : 2) : 1) * uint64_t(nLevels);
+    const uint64_t perPixel =
+        (ch.filter == FilterMode::Linear ? (kTwoD ? 4 : 2) : 1) * uint64_t(nLevels);
     fp.fetches = perPixel * 4;
     return fp.fetches;
 }
@@ -281,7 +304,8 @@ template <Target kTarget, Addr kS, Addr kT>
 // Phase 2: the texels and their exactly rounded weighted sum, from the level data of the
 // sampler's texture (which may be another texture of the same shape: footprint sharing).
 template <bool kTwoD>
-[[gnu::always_inline]] inline __m128i gatherQuad(const QuadSampler& qs, const QuadFootprint& fp) {
+[[gnu::always_inline]] inline __m128i gatherQuad(const QuadSampler& qs,
+                                                 const QuadFootprint& fp) {
     const LevelChoice& ch = fp.ch;
     const Rgba8* d0 = qs.level[size_t(ch.level0)].data;
     const Rgba8* d1 = qs.level[size_t(ch.level1)].data;
@@ -291,11 +315,13 @@ template <bool kTwoD>
         auto levelSums = [&](const Rgba8* d, int li, __m128i sum[4]) {
             for (int p = 0; p < 4; ++p) {
                 if constexpr (kTwoD)
-                    sum[p] = bilinearBiased(d + fp.i00[li][p], d + fp.i01[li][p], d + fp.i10[li][p],
-                                            d + fp.i11[li][p], fp.wx[li][p], fp.wy[li][p]);
+                    sum[p] = bilinearBiased(d + fp.i00[li][p], d + fp.i01[li][p],
+                                            d + fp.i10[li][p], d + fp.i11[li][p],
+                                            fp.wx[li][p], fp.wy[li][p]);
                 else
-                    sum[p] = pairBiased(load4(d + fp.i00[li][p]), load4(d + fp.i01[li][p]),
-                                        _mm_set1_epi32(fp.wx[li][p]));
+                    sum[p] =
+                        pairBiased(load4(d + fp.i00[li][p]), load4(d + fp.i01[li][p]),
+                                   _mm_set1_epi32(fp.wx[li][p]));
             }
         };
         __m128i a[4];
@@ -304,9 +330,11 @@ template <bool kTwoD>
             __m128i b[4];
             levelSums(d1, 1, b);
             for (int p = 0; p < 4; ++p)
-                v[p] = kTwoD ? finishBilinearBlend(a[p], b[p], ch.frac) : finishPairBlend(a[p], b[p], ch.frac);
+                v[p] = kTwoD ? finishBilinearBlend(a[p], b[p], ch.frac)
+                             : finishPairBlend(a[p], b[p], ch.frac);
         } else {
-            for (int p = 0; p < 4; ++p) v[p] = kTwoD ? finishBilinear(a[p]) : finishPair(a[p]);
+            for (int p = 0; p < 4; ++p)
+                v[p] = kTwoD ? finishBilinear(a[p]) : finishPair(a[p]);
         }
         return packQuad(v);
     }
@@ -314,22 +342,26 @@ template <bool kTwoD>
     if (ch.blend) {
         const __m128i w = weightPair(ch.frac);
         for (int p = 0; p < 4; ++p)
-            v[p] = finishPair(pairBiased(load4(d0 + fp.i00[0][p]), load4(d1 + fp.i00[1][p]), w));
+            v[p] = finishPair(
+                pairBiased(load4(d0 + fp.i00[0][p]), load4(d1 + fp.i00[1][p]), w));
         return packQuad(v);
     }
-    return _mm_unpacklo_epi64(_mm_unpacklo_epi32(load4(d0 + fp.i00[0][0]), load4(d0 + fp.i00[0][1])),
-                              _mm_unpacklo_epi32(load4(d0 + fp.i00[0][2]), load4(d0 + fp.i00[0][3])));
+    return _mm_unpacklo_epi64(
+        _mm_unpacklo_epi32(load4(d0 + fp.i00[0][0]), load4(d0 + fp.i00[0][1])),
+        _mm_unpacklo_epi32(load4(d0 + fp.i00[0][2]), load4(d0 + fp.i00[0][3])));
 }
 
 template <Target kTarget, Addr kS, Addr kT>
-uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in, __m128i& out) {
+uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
+                          __m128i& out) {
     QuadFootprint fp;
     const uint64_t n = prepareQuad<kTarget, kS, kT>(qs, in, fp);
     out = gatherQuad<kTarget != Target::OneD>(qs, fp);
     return n;
 }
 template <Target kTarget, Addr kS, Addr kT>
-uint64_t prepareKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in, QuadFootprint& fp) {
+uint64_t prepareKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
+                       QuadFootprint& fp) {
     return prepareQuad<kTarget, kS, kT>(qs, in, fp);
 }
 template <bool kTwoD>
@@ -338,9 +370,12 @@ __m128i gatherKernel(const QuadSampler& qs, const QuadFootprint& fp) {
 }
 
 bool specialisable(AddressMode m, int n) {
-    return m == AddressMode::ClampToEdge || (m == AddressMode::Wrap && (n & (n - 1)) == 0);
+    return m == AddressMode::ClampToEdge ||
+           (m == AddressMode::Wrap && (n & (n - 1)) == 0);
 }
-Addr addrOf(AddressMode m) { return m == AddressMode::ClampToEdge ? Addr::Edge : Addr::Pow2; }
+Addr addrOf(AddressMode m) {
+    return m == AddressMode::ClampToEdge ? Addr::Edge : Addr::Pow2;
+}
 
 template <Target kTarget, Addr kS, Addr kT>
 void setKernels(QuadSampler& q) {
@@ -351,27 +386,33 @@ void setKernels(QuadSampler& q) {
 template <Target kTarget>
 void pick(QuadSampler& q, Addr s, Addr t) {
     if (s == Addr::Edge) {
-        if (t == Addr::Edge) setKernels<kTarget, Addr::Edge, Addr::Edge>(q);
-        else setKernels<kTarget, Addr::Edge, Addr::Pow2>(q);
+        if (t == Addr::Edge)
+            setKernels<kTarget, Addr::Edge, Addr::Edge>(q);
+        else
+            setKernels<kTarget, Addr::Edge, Addr::Pow2>(q);
     } else {
-        if (t == Addr::Edge) setKernels<kTarget, Addr::Pow2, Addr::Edge>(q);
-        else setKernels<kTarget, Addr::Pow2, Addr::Pow2>(q);
+        if (t == Addr::Edge)
+            setKernels<kTarget, Addr::Pow2, Addr::Edge>(q);
+        else
+            setKernels<kTarget, Addr::Pow2, Addr::Pow2>(q);
     }
 }
 
 }  // namespace
 
 bool sameFootprint(const QuadSampler& a, const QuadSampler& b) {
-    if (!a.fn || a.prepare != b.prepare || a.projected != b.projected || a.lodBias != b.lodBias ||
-        a.constantChoice != b.constantChoice ||
+    if (!a.fn || a.prepare != b.prepare || a.projected != b.projected ||
+        a.lodBias != b.lodBias || a.constantChoice != b.constantChoice ||
         a.lodMin != b.lodMin || a.lodMax != b.lodMax || a.baseSize != b.baseSize ||
-        a.levels.base != b.levels.base || a.levels.q != b.levels.q || a.levels.c != b.levels.c ||
-        a.levels.mag != b.levels.mag || a.levels.min != b.levels.min || a.levels.mip != b.levels.mip ||
+        a.levels.base != b.levels.base || a.levels.q != b.levels.q ||
+        a.levels.c != b.levels.c || a.levels.mag != b.levels.mag ||
+        a.levels.min != b.levels.min || a.levels.mip != b.levels.mip ||
         a.texture->levels() != b.texture->levels())
         return false;
     for (int l = 0; l < a.texture->levels(); ++l) {
         const LevelView &x = a.level[size_t(l)], &y = b.level[size_t(l)];
-        if (x.width != y.width || x.height != y.height || x.faceStride != y.faceStride) return false;
+        if (x.width != y.width || x.height != y.height || x.faceStride != y.faceStride)
+            return false;
     }
     return true;
 }
@@ -389,7 +430,8 @@ QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool pro
     q.baseSizeF[0] = float(q.baseSize[0]);
     q.baseSizeF[1] = float(q.baseSize[1]);
     q.levels = levelParams(t.levels(), s);
-    // Without mipmaps and with one filter both ways, every λ chooses the same (level base).
+    // Without mipmaps and with one filter both ways, every λ chooses the same (level
+    // base).
     q.constantChoice = s.mipFilter == MipMode::None && s.magFilter == s.minFilter;
     q.choice = chooseLevelsInline(q.levels, 0);
     // biasAndClampLambda with its three conversions done once.
@@ -405,15 +447,19 @@ QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool pro
     }
     const int w = t.desc().width, h = t.desc().height;
     switch (target) {
-        case TextureTarget::CubeMap: setKernels<Target::Cube, Addr::Edge, Addr::Edge>(q); break;
+        case TextureTarget::CubeMap:
+            setKernels<Target::Cube, Addr::Edge, Addr::Edge>(q);
+            break;
         case TextureTarget::Texture2D:
             if (specialisable(s.address[0], w) && specialisable(s.address[1], h))
                 pick<Target::TwoD>(q, addrOf(s.address[0]), addrOf(s.address[1]));
             break;
         case TextureTarget::Texture1D:
-            if (specialisable(s.address[0], w)) pick<Target::OneD>(q, addrOf(s.address[0]), Addr::Edge);
+            if (specialisable(s.address[0], w))
+                pick<Target::OneD>(q, addrOf(s.address[0]), Addr::Edge);
             break;
-        default: break;
+        default:
+            break;
     }
     return q;
 }

@@ -1,22 +1,23 @@
 // Internal: the per-quad sampling kernels of the fast path, compiled once per state
 // change (TextureUnits::refresh) instead of re-derived per quad (SwiftShader's compiled
-// pixel routines, in miniature: a function pointer chosen from the hashed-down stage state).
+// pixel routines, in miniature: a function pointer chosen from the hashed-down stage
+// state).
 //
 // A kernel does for one stage and one 2×2 quad what TextureUnits::sampleStage does on the
 // fast path — projection or cube-face selection, one λ, the level choice, filtering — for
 // the states that dominate real frames: 8-bit 1D, 2D and cube textures, no colour table,
-// and per used axis CLAMP_TO_EDGE or WRAP on power-of-two extents (cube faces always clamp
-// to edge). Every other state keeps the generic path (sampleStage). The arithmetic is the
-// reference's (docs/hardware.md, "Level of detail", "Filtering"): same float operations
-// in the same order for the coordinates and λ, and the integer weighted sum evaluated
-// exactly (filter_quad.cpp explains the SSE2 form); TextureUnits tests compare the paths.
+// and per used axis CLAMP_TO_EDGE or WRAP on power-of-two extents (cube faces always
+// clamp to edge). Every other state keeps the generic path (sampleStage). The arithmetic
+// is the reference's (docs/hardware.md, "Level of detail", "Filtering"): same float
+// operations in the same order for the coordinates and λ, and the integer weighted sum
+// evaluated exactly (filter_quad.cpp explains the SSE2 form); TextureUnits tests compare
+// the paths.
 #pragma once
-
-#include <array>
-#include <cstdint>
 
 #include <emmintrin.h>
 
+#include <array>
+#include <cstdint>
 #include <glm/vec4.hpp>
 
 #include "addressing.h"
@@ -36,8 +37,8 @@ struct QuadFootprint {
     alignas(16) int32_t i00[2][4], i01[2][4], i10[2][4], i11[2][4];
     alignas(16) int32_t wx[2][4], wy[2][4];
 };
-// Samples one stage for the four pixels of a quad from its coordinate set `in` (s, t, r, q
-// per pixel, before any divide) into `out` (pixel p in bytes 4p..4p+3, the layout of
+// Samples one stage for the four pixels of a quad from its coordinate set `in` (s, t, r,
+// q per pixel, before any divide) into `out` (pixel p in bytes 4p..4p+3, the layout of
 // std::array<Rgba8, 4>); returns the texel fetches the reference would count.
 using QuadSampleFn = uint64_t (*)(const QuadSampler&, const std::array<glm::vec4, 4>& in,
                                   __m128i& out);
@@ -61,10 +62,11 @@ struct QuadSampler {
     const Texture* texture = nullptr;
     SamplerState sampler{};
     bool projected = false;  // divide by q (1D/2D)
-    int32_t lodBias = 0, lodMin = 0, lodMax = 0;  // fixed point: λ' = clamp(λ + bias, min, max)
-    std::array<int, 4> baseSize{1, 1, 1, 1};      // level-base extent (λ is measured in it)
-    float baseSizeF[2] = {1.0f, 1.0f};             // the same as floats
-    LevelParams levels{};                          // chooseLevels' inputs
+    // Fixed point (kLodFracBits): λ' = clamp(λ + lodBias, lodMin, lodMax).
+    int32_t lodBias = 0, lodMin = 0, lodMax = 0;
+    std::array<int, 4> baseSize{1, 1, 1, 1};  // level-base extent (λ is measured in it)
+    float baseSizeF[2] = {1.0f, 1.0f};        // the same as floats
+    LevelParams levels{};                     // chooseLevels' inputs
     bool constantChoice = false;  // no mipmaps, MAG = MIN: `choice` whatever λ is
     LevelChoice choice{};
     std::array<LevelView, kMaxLevels> level{};
@@ -78,7 +80,8 @@ bool sameFootprint(const QuadSampler& a, const QuadSampler& b);
 // The compiled samplers of all stages (TextureUnits holds one, rebuilt by its setters).
 struct CompiledStages {
     std::array<QuadSampler, 16> stage{};
-    std::array<uint8_t, 16> stageKernel{};  // quad::StageKernel of each stage (stage_arith.h)
+    std::array<uint8_t, 16>
+        stageKernel{};  // quad::StageKernel of each stage (stage_arith.h)
     // Bit i: stage i reuses stage i − 1's footprint (same coordinate set, sameFootprint);
     // stage i − 1 then runs its kernel in two phases and keeps the footprint.
     uint32_t sharesFootprint = 0;
