@@ -544,6 +544,7 @@ std::string mesaUnsupported(const Trace& trace) {
                 if (!state.perspectiveColor)
                     return "colours interpolated without perspective correction (GL always corrects)";
                 for (int i = 0; i < tex::kMaxStages && stages[size_t(i)].colorOp != tex::TextureOp::Disable; ++i) {
+                    if (i >= 8) return "more than 8 texture stages (GL_MAX_TEXTURE_UNITS of llvmpipe's fixed function)";
                     const tex::StageState& s = stages[size_t(i)];
                     for (tex::TextureOp op : {s.colorOp, s.alphaOp})
                         if (!glOpExpressible(op))
