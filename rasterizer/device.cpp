@@ -19,6 +19,25 @@
 #include "raster_tiles.h"
 #include "rasterizer/trace.h"
 
+// ThreadSanitizer cannot see TBB's own fork and join (libtbb is not instrumented), so
+// the parallel loops of the fast path state them explicitly (tests/sanitize.sh thread).
+#if defined(__SANITIZE_THREAD__)
+#define RG_TSAN 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define RG_TSAN 1
+#endif
+#endif
+#ifdef RG_TSAN
+extern "C" void __tsan_acquire(void* addr);
+extern "C" void __tsan_release(void* addr);
+#define RG_TSAN_ACQUIRE(p) __tsan_acquire(p)
+#define RG_TSAN_RELEASE(p) __tsan_release(p)
+#else
+#define RG_TSAN_ACQUIRE(p) ((void)0)
+#define RG_TSAN_RELEASE(p) ((void)0)
+#endif
+
 namespace rg::raster {
 
 using namespace detail;
@@ -164,8 +183,11 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             }
             return processed[i];
         };
+        [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
+        RG_TSAN_RELEASE(&forkJoin);
         arena->execute([&] {
             tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
+                RG_TSAN_ACQUIRE(&forkJoin);
                 TriangleChunk& ch = chunks[c];
                 ch.tris.clear();
                 ch.texPlanes.clear();
@@ -174,12 +196,18 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
                            local, lazyAt);
                 ch.geometry = local;
                 binChunk(ch, tilesX, tilesY);
+                RG_TSAN_RELEASE(&forkJoin);
             });
+            RG_TSAN_ACQUIRE(&forkJoin);
+            RG_TSAN_RELEASE(&forkJoin);
             tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
+                RG_TSAN_ACQUIRE(&forkJoin);
                 rasterizeTile(dc, std::span<const TriangleChunk>(chunks), tile, tilesX,
                               tileCounters[size_t(tile)]);
+                RG_TSAN_RELEASE(&forkJoin);
             });
         });
+        RG_TSAN_ACQUIRE(&forkJoin);
         }
         if (multi) {
             for (const TriangleChunk& ch : chunks) gc.add(ch.geometry);
