@@ -7,6 +7,8 @@
 
 #include <assimp/Importer.hpp>
 #include <cmath>
+#include <fstream>
+#include <string>
 
 #include "core/error.h"
 
@@ -17,12 +19,32 @@ Mesh loadMesh(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw Error(file + ": mesh file not found");
     if (std::filesystem::file_size(path, ec) == 0) throw Error(file + ": mesh file is empty");
+    // assimp 5.2's PLY reader loops forever when the header never ends (found by
+    // fuzz/fuzz_mesh_loader.cpp): a PLY file must have its end_header line in the first MiB.
+    {
+        std::ifstream in(path, std::ios::binary);
+        std::string head(4, '\0');
+        in.read(head.data(), 4);
+        if (in && head.compare(0, 3, "ply") == 0 && (head[3] == '\n' || head[3] == '\r')) {
+            head.resize(1 << 20);
+            in.read(head.data() + 4, std::streamsize(head.size() - 4));
+            head.resize(4 + size_t(in.gcount()));
+            const size_t at = head.find("\nend_header");
+            const char after = at == std::string::npos || at + 11 >= head.size() ? '\0' : head[at + 11];
+            if (after != '\n' && after != '\r')
+                throw Error(file + ": PLY header without an end_header line");
+        }
+    }
     Assimp::Importer importer;
     // JoinIdenticalVertices rebuilds the shared vertices OBJ faces index (it keeps seams:
     // vertices differing in normal or uv stay apart); GenSmoothNormals only acts where the
-    // file has no normals.
-    const aiScene* s = importer.ReadFile(file, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                                   aiProcess_GenSmoothNormals | aiProcess_SortByPType);
+    // file has no normals. ValidateDataStructure runs first and turns a malformed file's
+    // broken structure (e.g. face indices past the vertices of a bad OFF) into an import
+    // error; without it a later step aborts inside assimp (fuzz/regressions/mesh_loader/).
+    const aiScene* s = importer.ReadFile(
+        file, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                  aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
+                  aiProcess_SortByPType);
     if (!s || (s->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || s->mNumMeshes == 0)
         throw Error(file + ": cannot read mesh (" +
                     (s ? std::string("no meshes in the file") : std::string(importer.GetErrorString())) +
