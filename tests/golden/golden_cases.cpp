@@ -109,6 +109,43 @@ SamplerState sampler(FilterMode f, AddressMode a = AddressMode::Wrap, MipMode mi
     return s;
 }
 
+// Matrices from literal cosines, sines and tangents: calling libm here would make the
+// trace bytes depend on the build (GCC folds constant tan/cos with MPFR in Release and
+// calls libm in Debug, an ulp apart), and tests/compilers.sh checks the generator too.
+// glm::perspective's and glm::rotate's formulas with tan(fovy/2), cos and sin given.
+glm::mat4 perspectiveTan(float tanHalfFovy, float aspect, float n, float f) {
+    glm::mat4 m(0.0f);
+    m[0][0] = 1.0f / (aspect * tanHalfFovy);
+    m[1][1] = 1.0f / tanHalfFovy;
+    m[2][2] = -(f + n) / (f - n);
+    m[2][3] = -1.0f;
+    m[3][2] = -(2.0f * f * n) / (f - n);
+    return m;
+}
+glm::mat4 rotateCosSin(float c, float s, glm::vec3 axis) {
+    const glm::vec3 a = glm::normalize(axis);
+    const glm::vec3 t = (1.0f - c) * a;
+    glm::mat4 m(1.0f);
+    m[0][0] = c + t[0] * a[0];
+    m[0][1] = t[0] * a[1] + s * a[2];
+    m[0][2] = t[0] * a[2] - s * a[1];
+    m[1][0] = t[1] * a[0] - s * a[2];
+    m[1][1] = c + t[1] * a[1];
+    m[1][2] = t[1] * a[2] + s * a[0];
+    m[2][0] = t[2] * a[0] + s * a[1];
+    m[2][1] = t[2] * a[1] - s * a[0];
+    m[2][2] = c + t[2] * a[2];
+    return m;
+}
+constexpr float kTan30 = 0.57735026918962576f, kTan25 = 0.46630765815499859f,
+                kTan20 = 0.36397023426620236f;
+constexpr float kCos04 = 0.92106099400288508f, kSin04 = 0.38941834230865049f;
+constexpr float kCos05 = 0.87758256189037276f, kSin05 = 0.47942553860420301f;
+constexpr float kCos07 = 0.76484218728448842f, kSin07 = 0.64421768723769105f;
+// cos and sin of k·π/8, k = 0..16: the fan's and the sphere's angles.
+constexpr float kCosPi8[17] = {1.0f, 0.92387953251128674f, 0.70710678118654757f, 0.38268343236508984f, 6.123233995736766e-17f, -0.38268343236508973f, -0.70710678118654746f, -0.92387953251128674f, -1.0f, -0.92387953251128685f, -0.70710678118654768f, -0.38268343236509034f, -1.8369701987210297e-16f, 0.38268343236509f, 0.70710678118654735f, 0.92387953251128652f, 1.0f};
+constexpr float kSinPi8[17] = {0.0f, 0.38268343236508978f, 0.70710678118654746f, 0.92387953251128674f, 1.0f, 0.92387953251128674f, 0.70710678118654757f, 0.38268343236508989f, 1.2246467991473532e-16f, -0.38268343236508967f, -0.70710678118654746f, -0.92387953251128652f, -1.0f, -0.92387953251128663f, -0.70710678118654768f, -0.38268343236509039f, -2.4492935982947064e-16f};
+
 const std::array<Rgba8, 4> kCorners = {Rgba8{255, 0, 0, 255}, Rgba8{0, 255, 0, 160},
                                        Rgba8{0, 0, 255, 64}, Rgba8{255, 255, 255, 0}};
 
@@ -140,8 +177,7 @@ std::vector<Builder> builders() {
         // A fan of 16 triangles around a subpixel centre: every edge is shared once.
         std::vector<Vertex> fan{pv(15.37f, 14.81f, {60, 60, 60, 255})};
         for (int i = 0; i <= 16; ++i) {
-            float a = float(i) * 6.2831853f / 16.0f;
-            fan.push_back(pv(15.37f + 13.3f * std::cos(a), 14.81f + 12.7f * std::sin(a),
+            fan.push_back(pv(15.37f + 13.3f * kCosPi8[i], 14.81f + 12.7f * kSinPi8[i],
                              {uint8_t(40 + 10 * (i % 5)), uint8_t(30 * (i % 3)), 50, 255}));
         }
         d.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, fan);
@@ -175,9 +211,9 @@ std::vector<Builder> builders() {
                          : "world/view/projection, near and far clipping, guard band, CW/CCW culling, flat and Gouraud shading, perspective-correct colour"},
                  ProfileId::GeForce256, 32, 32, DepthFormat::D24, [affine](Device& d, TextureMemory&) {
         d.clear(true, {20, 20, 20, 255}, true, 1.0f);
-        glm::mat4 proj = glm::perspective(glm::radians(60.0f), 1.0f, 0.5f, 20.0f);
+        glm::mat4 proj = perspectiveTan(kTan30, 1.0f, 0.5f, 20.0f);
         glm::mat4 view = glm::lookAt(glm::vec3(0.3f, 0.4f, 2.0f), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
-        d.setTransforms(glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0, 1, 0)), view, proj);
+        d.setTransforms(rotateCosSin(kCos04, kSin04, glm::vec3(0, 1, 0)), view, proj);
         int k = 0;
         for (CullMode cull : {CullMode::None, CullMode::CW, CullMode::CCW})
             for (ShadeMode shade : {ShadeMode::Gouraud, ShadeMode::Flat}) {
@@ -482,15 +518,15 @@ std::vector<Builder> builders() {
         tu.setSampler(0, sampler(FilterMode::Linear, AddressMode::ClampToEdge, MipMode::Nearest));
         tu.setStage(0, stage(TextureOp::Modulate, arg::Texture, arg::Diffuse, TextureOp::SelectArg2, arg::Texture, arg::Diffuse));
         d.setTransforms(glm::mat4(1), glm::lookAt(glm::vec3(0, 0, 3), glm::vec3(0), glm::vec3(0, 1, 0)),
-                        glm::perspective(glm::radians(50.0f), 1.0f, 0.5f, 10.0f));
+                        perspectiveTan(kTan25, 1.0f, 0.5f, 10.0f));
         // A tessellated sphere.
         std::vector<Vertex> v;
         std::vector<uint32_t> idx;
         const int n = 8;
         for (int i = 0; i <= n; ++i)
             for (int j = 0; j <= n; ++j) {
-                float th = 3.14159265f * float(i) / n, ph = 6.2831853f * float(j) / n;
-                glm::vec3 p(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
+                // θ = iπ/8, φ = 2jπ/8
+                glm::vec3 p(kSinPi8[i] * kCosPi8[2 * j], kCosPi8[i], kSinPi8[i] * kSinPi8[2 * j]);
                 Vertex x;
                 x.position = glm::vec4(p, 1);
                 x.normal = p;
@@ -509,7 +545,7 @@ std::vector<Builder> builders() {
         d.draw(Primitive::TriangleList, VertexSpace::Untransformed, v, idx);
         g.mode = TexGenMode::CameraSpaceNormal;
         g.matrixEnabled = true;
-        g.matrix = glm::rotate(glm::mat4(1), 0.7f, glm::vec3(1, 1, 0));
+        g.matrix = rotateCosSin(kCos07, kSin07, glm::vec3(1, 1, 0));
         tu.setTexGen(0, g);
         d.setViewport({16, 0, 16, 32, 0, 1});
         d.draw(Primitive::TriangleList, VertexSpace::Untransformed, v, idx);
@@ -525,9 +561,9 @@ std::vector<Builder> builders() {
         tu.setTexture(0, rgbaTexture(mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 8, 8, 1, 1, 1}, 77));
         tu.setSampler(0, sampler(FilterMode::Linear, AddressMode::Wrap));
         tu.setStage(0, texEnvStage(TexEnvMode::Modulate, BaseFormat::Rgba));
-        d.setTransforms(glm::rotate(glm::mat4(1), 0.5f, glm::vec3(0.3f, 1, 0)),
+        d.setTransforms(rotateCosSin(kCos05, kSin05, glm::vec3(0.3f, 1, 0)),
                         glm::lookAt(glm::vec3(0, 0, 3), glm::vec3(0), glm::vec3(0, 1, 0)),
-                        glm::perspective(glm::radians(40.0f), 1.0f, 0.5f, 10.0f));
+                        perspectiveTan(kTan20, 1.0f, 0.5f, 10.0f));
         const TexGenMode modes[] = {TexGenMode::PassThru, TexGenMode::ObjectLinear, TexGenMode::EyeLinear,
                                     TexGenMode::SphereMap, TexGenMode::ReflectionMap, TexGenMode::NormalMap,
                                     TexGenMode::CameraSpacePosition, TexGenMode::PassThru};
