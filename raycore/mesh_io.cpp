@@ -38,13 +38,21 @@ Mesh loadMesh(const std::filesystem::path& path) {
     Assimp::Importer importer;
     // JoinIdenticalVertices rebuilds the shared vertices OBJ faces index (it keeps seams:
     // vertices differing in normal or uv stay apart); GenSmoothNormals only acts where the
-    // file has no normals. ValidateDataStructure runs first and turns a malformed file's
-    // broken structure (e.g. face indices past the vertices of a bad OFF) into an import
-    // error; without it a later step aborts inside assimp (fuzz/regressions/mesh_loader/).
-    const aiScene* s = importer.ReadFile(
-        file, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                  aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
-                  aiProcess_SortByPType);
+    // file has no normals. Malformed files must fail before those steps, which assert
+    // (abort) inside assimp on broken input (fuzz/regressions/mesh_loader/): the import
+    // runs with ValidateDataStructure alone (face indices past the vertices of a bad OFF),
+    // faces without indices (a bad PLY) are refused here, then the steps run as one
+    // ReadFile would have run them.
+    const aiScene* s = importer.ReadFile(file, aiProcess_ValidateDataStructure);
+    if (s && !(s->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+        for (unsigned mi = 0; mi < s->mNumMeshes; ++mi)
+            for (unsigned f = 0; f < s->mMeshes[mi]->mNumFaces; ++f)
+                if (s->mMeshes[mi]->mFaces[f].mNumIndices == 0)
+                    throw Error(file + ": face " + std::to_string(f) + " of mesh " +
+                                std::to_string(mi) + " has no vertices");
+        s = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                         aiProcess_GenSmoothNormals | aiProcess_SortByPType);
+    }
     if (!s || (s->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || s->mNumMeshes == 0)
         throw Error(file + ": cannot read mesh (" +
                     (s ? std::string("no meshes in the file") : std::string(importer.GetErrorString())) +
