@@ -6,9 +6,11 @@
 
 #include "core/profile.h"
 #include "rasterizer/device.h"
-#include "sha256.h"
+#include "rasterizer/trace.h"  // sha256Hex: the replay hash, one implementation
 
 namespace rg::testing {
+
+using raster::sha256Hex;
 
 inline raster::Vertex tv(float x, float y, float z = 0.5f, float rhw = 1.0f,
                          Rgba8 diffuse = {255, 255, 255, 255}, Rgba8 specular = {0, 0, 0, 0}) {
