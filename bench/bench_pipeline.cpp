@@ -116,15 +116,7 @@ void runRetroglass(benchmark::State& state, Workload w, int threads) {
 void runLlvmpipe(benchmark::State& state, Workload w, int threads) {
     auto mesh = std::make_shared<const Mesh>(makeMesh(w));
     auto setup = [mesh, w] {
-        glViewport(0, 0, kWidth, kHeight);
-        glMatrixMode(GL_PROJECTION);
-        glLoadIdentity();
-        glOrtho(0, kWidth, kHeight, 0, -1, 1);
-        glMatrixMode(GL_MODELVIEW);
-        glLoadIdentity();
-        glDisable(GL_DEPTH_TEST);
-        glDisable(GL_CULL_FACE);
-        glDisable(GL_DITHER);
+        setupWindowOrtho(kWidth, kHeight);
         glShadeModel(w == Workload::FillFlat ? GL_FLAT : GL_SMOOTH);
         if (w == Workload::FillGouraudBlend) {
             glEnable(GL_BLEND);

@@ -13,32 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "core/fd_io.h"
+
 namespace rg::bench {
 
 namespace {
 
-bool writeAll(int fd, const void* data, size_t size) {
-    const char* p = static_cast<const char*>(data);
-    while (size > 0) {
-        // send() with MSG_NOSIGNAL: a dead peer is an error here, not a SIGPIPE.
-        ssize_t n = ::send(fd, p, size, MSG_NOSIGNAL);
-        if (n <= 0) return false;
-        p += n;
-        size -= size_t(n);
-    }
-    return true;
-}
 
-bool readAll(int fd, void* data, size_t size) {
-    char* p = static_cast<char*>(data);
-    while (size > 0) {
-        ssize_t n = ::read(fd, p, size);
-        if (n <= 0) return false;
-        p += n;
-        size -= size_t(n);
-    }
-    return true;
-}
 
 // The child: never returns.
 [[noreturn]] void serve(int in, int out, int width, int height, int threads,
@@ -58,18 +39,18 @@ bool readAll(int fd, void* data, size_t size) {
         glFinish();
     }
     uint32_t len = uint32_t(renderer.size());
-    writeAll(out, &len, sizeof len);
-    writeAll(out, renderer.data(), len);
+    io::writeAll(out, &len, sizeof len);
+    io::writeAll(out, renderer.data(), len);
     if (renderer.empty()) ::_exit(1);
     int32_t frames;
-    while (readAll(in, &frames, sizeof frames) && frames > 0) {
+    while (io::readAll(in, &frames, sizeof frames) && frames > 0) {
         auto t0 = std::chrono::steady_clock::now();
         for (int i = 0; i < frames; ++i) {
             frame();
             glFinish();
         }
         double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (!writeAll(out, &seconds, sizeof seconds)) break;
+        if (!io::writeAll(out, &seconds, sizeof seconds)) break;
     }
     OSMesaDestroyContext(ctx);
     ::_exit(0);
@@ -92,19 +73,19 @@ MesaPeer::MesaPeer(int width, int height, int threads, std::function<void()> set
     child_ = pid;
     toChild_ = sv[0];
     uint32_t len = 0;
-    if (!readAll(toChild_, &len, sizeof len) || len == 0 || len > 4096) {
+    if (!io::readAll(toChild_, &len, sizeof len) || len == 0 || len > 4096) {
         ::close(toChild_);
         ::waitpid(child_, nullptr, 0);
         throw std::runtime_error("MesaPeer: the child could not create an OSMesa context");
     }
     renderer_.resize(len);
-    readAll(toChild_, renderer_.data(), len);
+    io::readAll(toChild_, renderer_.data(), len);
 }
 
 MesaPeer::~MesaPeer() {
     int32_t stop = 0;
     if (toChild_ >= 0) {
-        writeAll(toChild_, &stop, sizeof stop);
+        io::writeAll(toChild_, &stop, sizeof stop);
         ::close(toChild_);
     }
     if (child_ > 0) ::waitpid(child_, nullptr, 0);
@@ -113,9 +94,21 @@ MesaPeer::~MesaPeer() {
 double MesaPeer::run(int frames) {
     int32_t n = frames;
     double seconds = -1.0;
-    if (!writeAll(toChild_, &n, sizeof n) || !readAll(toChild_, &seconds, sizeof seconds))
+    if (!io::writeAll(toChild_, &n, sizeof n) || !io::readAll(toChild_, &seconds, sizeof seconds))
         throw std::runtime_error("MesaPeer: the child stopped answering");
     return seconds;
+}
+
+void setupWindowOrtho(int width, int height) {
+    glViewport(0, 0, width, height);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glOrtho(0, width, height, 0, -1, 1);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_DITHER);
 }
 
 }  // namespace rg::bench

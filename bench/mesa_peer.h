@@ -42,4 +42,9 @@ class MesaPeer {
     std::string renderer_;
 };
 
+// In the child, before a workload's draws: window coordinates with y down as in
+// Direct3D (glOrtho(0, w, h, 0, −1, 1)), identity modelview, and depth test, culling and
+// dithering off — the state every peer workload starts from.
+void setupWindowOrtho(int width, int height);
+
 }  // namespace rg::bench

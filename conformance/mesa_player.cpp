@@ -17,6 +17,7 @@
 //   drawPixels / copyPixels   glWindowPos + glPixelZoom(1, −1), texturing, blending and
 //                              tests off (our pixel transfer writes the framebuffer)
 #include "conformance/mesa_player.h"
+#include "core/fd_io.h"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -499,27 +500,7 @@ struct GlPlayer {
     }
 };
 
-bool writeAll(int fd, const void* data, size_t size) {
-    const char* p = static_cast<const char*>(data);
-    while (size > 0) {
-        ssize_t n = ::write(fd, p, size);
-        if (n <= 0) return false;
-        p += n;
-        size -= size_t(n);
-    }
-    return true;
-}
 
-bool readAll(int fd, void* data, size_t size) {
-    char* p = static_cast<char*>(data);
-    while (size > 0) {
-        ssize_t n = ::read(fd, p, size);
-        if (n <= 0) return false;
-        p += n;
-        size -= size_t(n);
-    }
-    return true;
-}
 
 }  // namespace
 
@@ -587,9 +568,9 @@ MesaReplay replayOnMesa(const Trace& trace) {
             const GLubyte* r = glGetString(GL_RENDERER);
             std::string renderer = r ? reinterpret_cast<const char*>(r) : "unknown";
             uint32_t len = uint32_t(renderer.size());
-            writeAll(fds[1], &len, 4);
-            writeAll(fds[1], renderer.data(), len);
-            writeAll(fds[1], buffer.data(), n);
+            io::writeAll(fds[1], &len, 4);
+            io::writeAll(fds[1], renderer.data(), len);
+            io::writeAll(fds[1], buffer.data(), n);
             status = 0;
             OSMesaDestroyContext(ctx);
         }
@@ -597,13 +578,13 @@ MesaReplay replayOnMesa(const Trace& trace) {
     }
     ::close(fds[1]);
     uint32_t len = 0;
-    bool ok = readAll(fds[0], &len, 4) && len < 4096;
+    bool ok = io::readAll(fds[0], &len, 4) && len < 4096;
     if (ok) {
         out.renderer.resize(len);
-        ok = readAll(fds[0], out.renderer.data(), len);
+        ok = io::readAll(fds[0], out.renderer.data(), len);
     }
     out.framebuffer = Framebuffer(trace.width, trace.height, DepthFormat::None);
-    if (ok) ok = readAll(fds[0], out.framebuffer.color().data(), n);
+    if (ok) ok = io::readAll(fds[0], out.framebuffer.color().data(), n);
     ::close(fds[0]);
     int status = 0;
     ::waitpid(pid, &status, 0);
