@@ -136,20 +136,7 @@ void runLlvmpipe(benchmark::State& state, Workload w, int threads) {
             glDrawElements(GL_TRIANGLES, GLsizei(mesh->index.size()), GL_UNSIGNED_INT,
                            mesh->index.data());
     };
-    std::unique_ptr<MesaPeer> peer;
-    try {
-        peer = std::make_unique<MesaPeer>(kWidth, kHeight, threads, setup, frame);
-    } catch (const std::exception& e) {
-        state.SkipWithError(e.what());
-        return;
-    }
-    if (peer->renderer().find("llvmpipe") == std::string::npos) {
-        state.SkipWithError(("the OSMesa renderer is '" + peer->renderer() + "', not llvmpipe").c_str());
-        return;
-    }
-    for (auto _ : state) state.SetIterationTime(peer->run(1));
-    state.SetItemsProcessed(state.iterations() * mesh->itemsPerFrame);
-    state.SetLabel(peer->renderer());
+    runMesaBenchmark(state, kWidth, kHeight, threads, setup, frame, mesh->itemsPerFrame);
 }
 
 const bool registered = [] {

@@ -239,20 +239,7 @@ void runLlvmpipe(benchmark::State& state, Workload w, int threads) {
         glClear(GL_COLOR_BUFFER_BIT);
         glDrawArrays(GL_TRIANGLES, 0, GLsizei(sc->color.size()));
     };
-    std::unique_ptr<MesaPeer> peer;
-    try {
-        peer = std::make_unique<MesaPeer>(kWidth, kHeight, threads, setup, frame);
-    } catch (const std::exception& e) {
-        state.SkipWithError(e.what());
-        return;
-    }
-    if (peer->renderer().find("llvmpipe") == std::string::npos) {
-        state.SkipWithError(("the OSMesa renderer is '" + peer->renderer() + "', not llvmpipe").c_str());
-        return;
-    }
-    for (auto _ : state) state.SetIterationTime(peer->run(1));
-    state.SetItemsProcessed(state.iterations() * int64_t(kQuads) * kWidth * kHeight);
-    state.SetLabel(peer->renderer());
+    runMesaBenchmark(state, kWidth, kHeight, threads, setup, frame, int64_t(kQuads) * kWidth * kHeight);
 }
 
 // ---- ours alone ------------------------------------------------------------------------

@@ -9,9 +9,12 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <benchmark/benchmark.h>
 
 #include "core/fd_io.h"
 
@@ -109,6 +112,25 @@ void setupWindowOrtho(int width, int height) {
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_DITHER);
+}
+
+void runMesaBenchmark(benchmark::State& state, int width, int height, int threads,
+                      std::function<void()> setup, std::function<void()> frame,
+                      int64_t itemsPerFrame) {
+    std::unique_ptr<MesaPeer> peer;
+    try {
+        peer = std::make_unique<MesaPeer>(width, height, threads, std::move(setup), std::move(frame));
+    } catch (const std::exception& e) {
+        state.SkipWithError(e.what());
+        return;
+    }
+    if (peer->renderer().find("llvmpipe") == std::string::npos) {
+        state.SkipWithError(("the OSMesa renderer is '" + peer->renderer() + "', not llvmpipe").c_str());
+        return;
+    }
+    for (auto _ : state) state.SetIterationTime(peer->run(1));
+    state.SetItemsProcessed(state.iterations() * itemsPerFrame);
+    state.SetLabel(peer->renderer());
 }
 
 }  // namespace rg::bench

@@ -15,6 +15,7 @@
 
 #include <sys/types.h>
 
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -46,5 +47,20 @@ class MesaPeer {
 // Direct3D (glOrtho(0, w, h, 0, −1, 1)), identity modelview, and depth test, culling and
 // dithering off — the state every peer workload starts from.
 void setupWindowOrtho(int width, int height);
+
+}  // namespace rg::bench
+
+namespace benchmark {
+class State;
+}
+
+namespace rg::bench {
+
+// The llvmpipe side of a paired benchmark: starts a peer child with `threads` llvmpipe
+// threads, refuses (SkipWithError) anything but llvmpipe, times one frame per iteration
+// and reports `itemsPerFrame` items per frame.
+void runMesaBenchmark(benchmark::State& state, int width, int height, int threads,
+                      std::function<void()> setup, std::function<void()> frame,
+                      int64_t itemsPerFrame);
 
 }  // namespace rg::bench
