@@ -140,6 +140,14 @@ DrawContext makeDrawContext(const PipelineState& st, Framebuffer& fb, const tex:
 ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewProj,
                               const glm::mat4& worldView, const glm::mat3& normalMatrix,
                               const Vertex& v);
+// The programmable pipeline (programmable.cpp) reuses clipping and setup: a context for a
+// target of width×height whose `varyingFloats` attributes (from attr[kColorAttrs]) are all
+// interpolated perspective-correctly, and the window position, snapped position and
+// outcodes of a vertex whose clip position a vertex program wrote.
+DrawContext makeProgramDrawContext(int width, int height, const Viewport& vp, const Rect* scissor,
+                                   CullMode cull, int subpixelBits, int varyingFloats, bool depth,
+                                   Path path);
+void projectProgramVertex(const DrawContext& dc, ProcessedVertex& v);
 // Primitive assembly: vertex numbers of triangle `i` and its flat-shading (provoking)
 // vertex; the provoking vertex is always element 0 of the returned order.
 inline uint32_t triangleCount(Primitive p, uint32_t n) {

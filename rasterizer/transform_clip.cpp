@@ -54,6 +54,46 @@ ProcessedVertex intersect(const DrawContext& dc, const ProcessedVertex& in, floa
     return r;
 }
 
+// The pixels a draw may write (viewport ∩ scissor ∩ target) and the clip planes: near,
+// far and the guard band, shared by the fixed-function and programmable draws.
+void setClipGeometry(DrawContext& dc, int width, int height, VertexSpace space,
+                     const Viewport& vp, const Rect* scissor) {
+    // int64: a scissor rectangle may lie anywhere, even near the int32 limits.
+    int64_t x0 = std::max(0, vp.x), y0 = std::max(0, vp.y);
+    int64_t x1 = std::min<int64_t>(width, int64_t(vp.x) + vp.width);
+    int64_t y1 = std::min<int64_t>(height, int64_t(vp.y) + vp.height);
+    if (scissor) {
+        x0 = std::max<int64_t>(x0, scissor->x);
+        y0 = std::max<int64_t>(y0, scissor->y);
+        x1 = std::min<int64_t>(x1, int64_t(scissor->x) + scissor->width);
+        y1 = std::min<int64_t>(y1, int64_t(scissor->y) + scissor->height);
+    }
+    dc.clipX0 = int(std::min<int64_t>(x0, width));
+    dc.clipY0 = int(std::min<int64_t>(y0, height));
+    dc.clipX1 = int(std::max<int64_t>(x1, 0));
+    dc.clipY1 = int(std::max<int64_t>(y1, 0));
+
+    const float G = float(kGuardBandPixels);
+    dc.planes[0] = {0, 0, 1, 0};   // near: z ≥ 0 (Direct3D clip volume 0 ≤ z ≤ w)
+    dc.planes[1] = {0, 0, -1, 1};  // far: z ≤ w
+    if (space == VertexSpace::Pretransformed) {
+        dc.planes[2] = {1, 0, 0, G};
+        dc.planes[3] = {-1, 0, 0, G};
+        dc.planes[4] = {0, 1, 0, G};
+        dc.planes[5] = {0, -1, 0, G};
+    } else {
+        // window x = vx + (x/w + 1)·vw/2 ≥ −G  ⇔  x − kL·w ≥ 0, and so on.
+        float kL = 2.0f * (-G - float(vp.x)) / float(vp.width) - 1.0f;
+        float kR = 2.0f * (G - float(vp.x)) / float(vp.width) - 1.0f;
+        float kT = 1.0f - 2.0f * (-G - float(vp.y)) / float(vp.height);
+        float kB = 1.0f - 2.0f * (G - float(vp.y)) / float(vp.height);
+        dc.planes[2] = {1, 0, 0, -kL};
+        dc.planes[3] = {-1, 0, 0, kR};
+        dc.planes[4] = {0, -1, 0, kT};
+        dc.planes[5] = {0, 1, 0, -kB};
+    }
+}
+
 }  // namespace
 
 DrawContext makeDrawContext(const PipelineState& st, Framebuffer& fb, const tex::TextureUnits& tu,
@@ -78,40 +118,7 @@ DrawContext makeDrawContext(const PipelineState& st, Framebuffer& fb, const tex:
     dc.depthOn = st.depthTest != 0 && fb.depthFormat() != DepthFormat::None;
     dc.depthMax = fb.depthMax();
 
-    // int64: a scissor rectangle may lie anywhere, even near the int32 limits.
-    int64_t x0 = std::max(0, vp.x), y0 = std::max(0, vp.y);
-    int64_t x1 = std::min<int64_t>(fb.width(), int64_t(vp.x) + vp.width);
-    int64_t y1 = std::min<int64_t>(fb.height(), int64_t(vp.y) + vp.height);
-    if (st.scissorTest) {
-        x0 = std::max<int64_t>(x0, scissor.x);
-        y0 = std::max<int64_t>(y0, scissor.y);
-        x1 = std::min<int64_t>(x1, int64_t(scissor.x) + scissor.width);
-        y1 = std::min<int64_t>(y1, int64_t(scissor.y) + scissor.height);
-    }
-    dc.clipX0 = int(std::min<int64_t>(x0, fb.width()));
-    dc.clipY0 = int(std::min<int64_t>(y0, fb.height()));
-    dc.clipX1 = int(std::max<int64_t>(x1, 0));
-    dc.clipY1 = int(std::max<int64_t>(y1, 0));
-
-    const float G = float(kGuardBandPixels);
-    dc.planes[0] = {0, 0, 1, 0};   // near: z ≥ 0 (Direct3D clip volume 0 ≤ z ≤ w)
-    dc.planes[1] = {0, 0, -1, 1};  // far: z ≤ w
-    if (space == VertexSpace::Pretransformed) {
-        dc.planes[2] = {1, 0, 0, G};
-        dc.planes[3] = {-1, 0, 0, G};
-        dc.planes[4] = {0, 1, 0, G};
-        dc.planes[5] = {0, -1, 0, G};
-    } else {
-        // window x = vx + (x/w + 1)·vw/2 ≥ −G  ⇔  x − kL·w ≥ 0, and so on.
-        float kL = 2.0f * (-G - float(vp.x)) / float(vp.width) - 1.0f;
-        float kR = 2.0f * (G - float(vp.x)) / float(vp.width) - 1.0f;
-        float kT = 1.0f - 2.0f * (-G - float(vp.y)) / float(vp.height);
-        float kB = 1.0f - 2.0f * (G - float(vp.y)) / float(vp.height);
-        dc.planes[2] = {1, 0, 0, -kL};
-        dc.planes[3] = {-1, 0, 0, kR};
-        dc.planes[4] = {0, -1, 0, kT};
-        dc.planes[5] = {0, 1, 0, -kB};
-    }
+    setClipGeometry(dc, fb.width(), fb.height(), space, vp, st.scissorTest ? &scissor : nullptr);
     return dc;
 }
 
@@ -220,6 +227,36 @@ void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const Proces
         ++gc.drawn;
     else
         ++gc.culled;
+}
+
+DrawContext makeProgramDrawContext(int width, int height, const Viewport& vp, const Rect* scissor,
+                                   CullMode cull, int subpixelBits, int varyingFloats, bool depth,
+                                   Path path) {
+    DrawContext dc;
+    dc.st.cull = cull;
+    dc.path = path;
+    dc.space = VertexSpace::Untransformed;
+    dc.vp = vp;
+    dc.subpixelBits = subpixelBits;
+    dc.passThrough = false;
+    // Varyings ride in the texture-coordinate slots: every one perspective-correct, no
+    // colour planes. numTexSets only has to be non-zero for setup to build the 1/w plane.
+    dc.numTexSets = varyingFloats > 0 ? 1 : 0;
+    dc.numAttrs = kColorAttrs + varyingFloats;
+    dc.gouraud = false;
+    dc.perspectiveColor = false;
+    dc.needSpecular = false;
+    dc.depthOn = depth;
+    setClipGeometry(dc, width, height, VertexSpace::Untransformed, vp, scissor);
+    return dc;
+}
+
+void projectProgramVertex(const DrawContext& dc, ProcessedVertex& v) {
+    const glm::vec4& c = v.clip;
+    v.valid = finite(c.x) && finite(c.y) && finite(c.z) && finite(c.w);
+    if (!v.valid) return;
+    project(dc, v);
+    v.outcode = outcodeOf(dc, v.clip);
 }
 
 }  // namespace rg::raster::detail

@@ -143,6 +143,30 @@ std::shared_ptr<Texture> TextureMemory::create(const TextureDesc& d) {
     return t;
 }
 
+std::shared_ptr<Texture> TextureMemory::createRenderTarget(const TextureDesc& d) {
+    const Profile& p = *profile_;
+    p.require(Feature::RenderToTexture, std::string(formatInfo(d.format).name) + " render target");
+    switch (d.format) {
+        case TexelFormat::RGBA8: break;
+        case TexelFormat::R16F: case TexelFormat::RGBA16F:
+        case TexelFormat::R32F: case TexelFormat::RGBA32F:
+            p.require(Feature::FloatRenderTarget, std::string(formatInfo(d.format).name));
+            break;
+        case TexelFormat::Depth24: case TexelFormat::Depth32F: break;
+        default:
+            throw InvalidState(std::string(formatInfo(d.format).name) +
+                               " is not a render-target format (RGBA8, R16F, RGBA16F, R32F, "
+                               "RGBA32F, Depth24, Depth32F)");
+    }
+    if (d.target != TextureTarget::Texture1D && d.target != TextureTarget::Texture2D &&
+        d.target != TextureTarget::CubeMap)
+        throw InvalidState(std::string(targetName(d.target)) + " cannot be a render target");
+    auto t = create(d);
+    for (auto& lv : t->levels_) lv.uploaded.fill(true);
+    t->renderTarget_ = true;
+    return t;
+}
+
 void TextureMemory::upload(Texture& t, int level, int face, std::span<const uint8_t> bytes) {
     if (t.pool_ != pool_) throw InvalidState("texture belongs to another texture memory");
     if (level < 0 || level >= t.levels())

@@ -70,6 +70,19 @@ class Texture {
         return levels_[level].texels8.data() + size_t(face) * levels_[level].count;
     }
 
+    // Render-to-texture (geforce8800): a texture made by TextureMemory::createRenderTarget()
+    // is written in place by the programmable pipeline's output merger, so a later pass
+    // samples what an earlier one drew without a copy (the Direct3D 10 render-target view
+    // and shader-resource view of one resource). Row-major level data of one face; the
+    // 8-bit array for RGBA8, the float array (vec4 per texel) for float and depth formats.
+    bool isRenderTarget() const { return renderTarget_; }
+    Rgba8* renderData8(int level, int face) {
+        return levels_[level].texels8.data() + size_t(face) * levels_[level].count;
+    }
+    glm::vec4* renderDataF(int level, int face) {
+        return levels_[level].texelsF.data() + size_t(face) * levels_[level].count;
+    }
+
   private:
     friend class TextureMemory;
     struct Level {
@@ -89,6 +102,7 @@ class Texture {
     TextureDesc desc_;
     int dims_ = 2, faces_ = 1;
     uint64_t bytes_ = 0;
+    bool renderTarget_ = false;
     std::vector<Level> levels_;
     std::shared_ptr<Pool> pool_;
 };
@@ -106,6 +120,11 @@ class TextureMemory {
     // Checks the target, format and size against the profile (power-of-two rule, maximum
     // edge, cube/4D/float/depth features, a full chain at most) and reserves memory.
     std::shared_ptr<Texture> create(const TextureDesc& desc);
+    // A texture the programmable pipeline can render into (Feature::RenderToTexture):
+    // RGBA8, R16F, RGBA16F, R32F, RGBA32F colour or Depth24/Depth32F depth, 1D/2D or cube.
+    // Every level is complete from the start, cleared to zero; it occupies texture memory
+    // like any texture (the G80 kept render targets in the same video memory).
+    std::shared_ptr<Texture> createRenderTarget(const TextureDesc& desc);
     // Uploads one level of one face from packed bytes in the format's layout (rows x
     // fastest). Throws rg::InvalidState when `bytes` does not hold exactly the level.
     void upload(Texture& texture, int level, int face, std::span<const uint8_t> bytes);

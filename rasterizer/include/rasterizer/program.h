@@ -1,0 +1,221 @@
+// What the programmable profile (geforce8800) runs: vertex and fragment programs written
+// in C++, and the state of the output merger they write through (docs/hardware.md,
+// "Programmable profile").
+//
+// A program is a plain C++ type, so that the pipeline instantiates its inner loop for it
+// and the compiler inlines the program there — no call through a pointer per fragment:
+//
+//   struct MyVertexProgram {
+//       static constexpr int kVaryings = 1;            // vec4 varyings written
+//       glm::vec4 operator()(const MyVertex& v, Varyings& out) const {
+//           out[0] = glm::vec4(v.uv, 0, 1);
+//           return mvp * v.position;                   // clip-space position
+//       }
+//   };
+//   struct MyFragmentProgram {
+//       static constexpr int kVaryings = 1;            // must match the vertex program
+//       static constexpr uint32_t kTargets = 0b1;      // render targets written
+//       static constexpr uint32_t kUnits = 0b1;        // texture units read
+//       static constexpr bool kWritesDepth = false;    // true: disables the early depth test
+//       void operator()(FragmentContext& f) const {
+//           f.output(0, f.sample(0, 0));               // unit 0 at varying 0, implicit LOD
+//       }
+//   };
+//
+// The declarations are checked at draw time (targets attached, units bound) so that a
+// mistake is an error naming it before any pixel is written; a program that reads a unit
+// or writes a target it did not declare is an error too (rg::InvalidState).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+
+#include "core/path.h"
+#include "rasterizer/state.h"
+#include "texunit/sampler.h"
+#include "texunit/texture.h"
+
+namespace rg::raster {
+
+constexpr int kMaxVaryings = 8;      // vec4 varyings (Direct3D 9 SM3 had 10, GL on G80 15)
+constexpr int kMaxColorTargets = 4;  // simultaneous render targets a program writes
+constexpr int kMaxProgramUnits = 16; // G80: 16 texture image units per fragment program
+
+using Varyings = std::array<glm::vec4, kMaxVaryings>;
+
+// One colour attachment: a level (and cube face) of a texture made by
+// tex::TextureMemory::createRenderTarget(). Formats: RGBA8, R16F, RGBA16F, R32F, RGBA32F.
+struct ColorTarget {
+    std::shared_ptr<tex::Texture> texture;
+    int level = 0;
+    int face = 0;
+};
+
+// The depth attachment: a Depth24 or Depth32F render-target texture, sampled later as a
+// shadow map (depth compare) or as plain float depth.
+struct DepthTarget {
+    std::shared_ptr<tex::Texture> texture;
+    int level = 0;
+    int face = 0;
+};
+
+// Per-target blending (Direct3D 10 D3D10_BLEND_DESC with independent blend, as the G80
+// supported through its OpenGL drivers). Float targets blend in single precision; RGBA8
+// targets use the fixed-function 8-bit blend (fragment_ops.h).
+struct TargetBlend {
+    uint8_t enable = 0;
+    BlendFactor src = BlendFactor::One;
+    BlendFactor dst = BlendFactor::Zero;
+    BlendOp op = BlendOp::Add;
+    uint8_t writeMask = kWriteRGBA;
+    friend bool operator==(const TargetBlend&, const TargetBlend&) = default;
+};
+
+struct ProgramState {
+    CullMode cull = CullMode::None;  // Direct3D 10 rasterizer default is BACK; GL's is off
+    uint8_t depthTest = 0;
+    uint8_t depthWrite = 0;
+    CompareFunc depthFunc = CompareFunc::Less;  // D3D10 default D3D10_COMPARISON_LESS
+    uint8_t pad = 0;
+    float pointSize = 1.0f;  // edge of a point's square, pixels (photon splats)
+    std::array<TargetBlend, kMaxColorTargets> blend{};
+};
+
+enum class ProgramPrimitive : uint8_t { TriangleList, TriangleStrip, TriangleFan, PointList };
+
+// Per-frame counters of the programmable pipeline (reset by beginFrame).
+struct ProgramCounters {
+    uint64_t drawCalls = 0;
+    uint64_t vertexInvocations = 0;
+    uint64_t primitivesSubmitted = 0;   // triangles, or points
+    uint64_t trianglesDrawn = 0;        // reached rasterization (points count as two)
+    uint64_t trianglesCulled = 0;
+    uint64_t trianglesClipped = 0;
+    uint64_t primitivesInvalid = 0;     // dropped for NaN/Inf clip positions
+    uint64_t fragmentsGenerated = 0;    // covered pixels
+    uint64_t fragmentsDepthFailed = 0;  // failed the (early or late) depth test
+    uint64_t fragmentInvocations = 0;   // fragment-program runs
+    uint64_t fragmentsDiscarded = 0;
+    uint64_t fragmentsWritten = 0;      // reached the targets
+    uint64_t textureFetches = 0;        // texels read by fragment programs
+    uint64_t maxFetchesPerFragment = 0;
+    double meanFetchesPerFragment() const {
+        return fragmentInvocations ? double(textureFetches) / double(fragmentInvocations) : 0.0;
+    }
+    void add(const ProgramCounters& o);
+    std::string toString() const;  // one "name value" line per counter
+};
+
+namespace detail {
+
+// The values of every varying at the four pixels of a 2×2 quad (pixel i at x + (i & 1),
+// y + (i >> 1)); uncovered pixels are extrapolated from the planes so derivatives exist.
+struct QuadVaryings {
+    std::array<std::array<glm::vec4, 4>, kMaxVaryings + 1> v;  // + the point coordinate
+};
+
+struct BoundUnit {
+    const tex::Texture* texture = nullptr;
+    tex::SamplerState sampler;
+};
+
+}  // namespace detail
+
+// What a fragment program sees of its fragment. Derivatives and implicit level of detail
+// come from the quad: ddx is the difference along the pixel's row of the quad, ddy along
+// its column ("fine" derivatives). Only varyings have derivatives — for a computed
+// coordinate, give the gradients (sampleGrad) or a level (sampleLevel).
+class FragmentContext {
+  public:
+    const glm::vec4& varying(int k) const { return quad_->v[size_t(k)][size_t(pixel_)]; }
+    glm::vec4 ddx(int k) const {
+        const auto& q = quad_->v[size_t(k)];
+        return q[size_t(pixel_ | 1)] - q[size_t(pixel_ & 2)];
+    }
+    glm::vec4 ddy(int k) const {
+        const auto& q = quad_->v[size_t(k)];
+        return q[size_t(pixel_ | 2)] - q[size_t(pixel_ & 1)];
+    }
+    // Window position of the pixel centre, window z and 1/w (gl_FragCoord, SV_Position).
+    const glm::vec4& fragCoord() const { return fragCoord_; }
+    // Point primitives: (0, 0) at the top-left corner of the square to (1, 1)
+    // (gl_PointCoord); (0, 0) for triangles.
+    glm::vec2 pointCoord() const {
+        const glm::vec4& p = quad_->v[kMaxVaryings][size_t(pixel_)];
+        return {p.x, p.y};
+    }
+
+    // ---- texture instructions (texunit/program_fetch.h) ----------------------------------
+    // Unit `unit` at varying `k`, λ from that varying over the quad (texture2D, Sample).
+    glm::vec4 sample(int unit, int k);
+    // The same with the projective divide by the varying's w (texture2DProj).
+    glm::vec4 sampleProj(int unit, int k);
+    // At a computed coordinate with explicit gradients (textureGrad, SampleGrad).
+    glm::vec4 sampleGrad(int unit, const glm::vec4& c, const glm::vec4& ddx, const glm::vec4& ddy);
+    // At a computed coordinate on an explicit level of detail (textureLod, SampleLevel).
+    glm::vec4 sampleLevel(int unit, const glm::vec4& c, float lod);
+    // Depth compare on level 0: the filtered fraction of taps with ref ≤ depth (shadow2D).
+    float sampleCompare(int unit, const glm::vec4& c, float ref);
+
+    // ---- outputs -------------------------------------------------------------------------
+    void discard() { discarded_ = true; }
+    void output(int target, const glm::vec4& color) {
+        if (target < 0 || target >= kMaxColorTargets || !((declaredTargets_ >> target) & 1u))
+            undeclaredTarget(target);
+        out_[size_t(target)] = color;
+        written_ |= 1u << target;
+    }
+    void depth(float z) {
+        depth_ = z;
+        depthWritten_ = true;
+    }
+
+    // ---- used by the pipeline -------------------------------------------------------------
+    struct Setup {
+        const std::array<detail::BoundUnit, kMaxProgramUnits>* units = nullptr;
+        uint32_t declaredUnits = 0;
+        uint32_t declaredTargets = 0;
+        Path path = Path::Fast;
+    };
+    void begin(const Setup& s, const detail::QuadVaryings* quad, int pixel, const glm::vec4& fragCoord) {
+        setup_ = &s;
+        declaredTargets_ = s.declaredTargets;
+        quad_ = quad;
+        pixel_ = pixel;
+        fragCoord_ = fragCoord;
+        discarded_ = false;
+        depthWritten_ = false;
+        written_ = 0;
+        fetches_ = 0;
+        depth_ = fragCoord.z;
+    }
+    bool discarded() const { return discarded_; }
+    uint32_t written() const { return written_; }
+    const glm::vec4& out(int target) const { return out_[size_t(target)]; }
+    bool depthWritten() const { return depthWritten_; }
+    float depthValue() const { return depth_; }
+    uint32_t fetches() const { return fetches_; }
+
+  private:
+    const detail::BoundUnit& unit(int u) const;  // throws for an undeclared or unbound unit
+    [[noreturn]] void undeclaredTarget(int target) const;
+
+    const Setup* setup_ = nullptr;
+    uint32_t declaredTargets_ = 0;
+    const detail::QuadVaryings* quad_ = nullptr;
+    int pixel_ = 0;
+    glm::vec4 fragCoord_{0.0f};
+    bool discarded_ = false;
+    bool depthWritten_ = false;
+    uint32_t written_ = 0;
+    uint32_t fetches_ = 0;
+    float depth_ = 0.0f;
+    std::array<glm::vec4, kMaxColorTargets> out_{};
+};
+
+}  // namespace rg::raster

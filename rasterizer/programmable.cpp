@@ -1,0 +1,627 @@
+// The programmable device (geforce8800): state, validation, primitive assembly, the
+// fixed-function clip and setup, binning into tiles, and the output merger
+// (docs/hardware.md, "Programmable profile").
+#include "rasterizer/programmable_device.h"
+
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "core/error.h"
+#include "pipeline.h"
+#include "rasterizer/fragment_ops.h"
+#include "raster_tiles.h"
+#include "texunit/format.h"
+#include "texunit/program_fetch.h"
+
+namespace rg::raster {
+
+static_assert(sizeof(detail::Plane) == 3 * sizeof(float), "planes are read as float triples");
+
+// ---- counters ---------------------------------------------------------------------------
+
+void ProgramCounters::add(const ProgramCounters& o) {
+    drawCalls += o.drawCalls;
+    vertexInvocations += o.vertexInvocations;
+    primitivesSubmitted += o.primitivesSubmitted;
+    trianglesDrawn += o.trianglesDrawn;
+    trianglesCulled += o.trianglesCulled;
+    trianglesClipped += o.trianglesClipped;
+    primitivesInvalid += o.primitivesInvalid;
+    fragmentsGenerated += o.fragmentsGenerated;
+    fragmentsDepthFailed += o.fragmentsDepthFailed;
+    fragmentInvocations += o.fragmentInvocations;
+    fragmentsDiscarded += o.fragmentsDiscarded;
+    fragmentsWritten += o.fragmentsWritten;
+    textureFetches += o.textureFetches;
+    maxFetchesPerFragment = std::max(maxFetchesPerFragment, o.maxFetchesPerFragment);
+}
+
+std::string ProgramCounters::toString() const {
+    std::string s;
+    auto line = [&](const char* name, uint64_t v) {
+        s += name;
+        s += ' ';
+        s += std::to_string(v);
+        s += '\n';
+    };
+    line("draw_calls", drawCalls);
+    line("vertex_invocations", vertexInvocations);
+    line("primitives_submitted", primitivesSubmitted);
+    line("triangles_drawn", trianglesDrawn);
+    line("triangles_culled", trianglesCulled);
+    line("triangles_clipped", trianglesClipped);
+    line("primitives_invalid", primitivesInvalid);
+    line("fragments_generated", fragmentsGenerated);
+    line("fragments_depth_failed", fragmentsDepthFailed);
+    line("fragment_invocations", fragmentInvocations);
+    line("fragments_discarded", fragmentsDiscarded);
+    line("fragments_written", fragmentsWritten);
+    line("texture_fetches", textureFetches);
+    char mean[64];
+    std::snprintf(mean, sizeof mean, "%.3f", meanFetchesPerFragment());
+    s += "texture_fetches_per_fragment_mean ";
+    s += mean;
+    s += '\n';
+    line("texture_fetches_per_fragment_max", maxFetchesPerFragment);
+    return s;
+}
+
+// ---- fragment context: texture instructions ---------------------------------------------
+
+const detail::BoundUnit& FragmentContext::unit(int u) const {
+    if (u < 0 || u >= kMaxProgramUnits || !((setup_->declaredUnits >> u) & 1u))
+        throw InvalidState("fragment program reads texture unit " + std::to_string(u) +
+                           ", which it does not declare in kUnits");
+    // Declared units are checked bound at draw time.
+    return (*setup_->units)[size_t(u)];
+}
+
+void FragmentContext::undeclaredTarget(int target) const {
+    throw InvalidState("fragment program writes render target " + std::to_string(target) +
+                       ", which it does not declare in kTargets");
+}
+
+glm::vec4 FragmentContext::sample(int u, int k) {
+    const detail::BoundUnit& b = unit(u);
+    const auto& q = quad_->v[size_t(k)];
+    const int32_t lambda = tex::programLambdaQuad(*b.texture, b.sampler, q);
+    return tex::programFetch(*b.texture, b.sampler, q[size_t(pixel_)], lambda, setup_->path, fetches_);
+}
+
+glm::vec4 FragmentContext::sampleProj(int u, int k) {
+    const detail::BoundUnit& b = unit(u);
+    std::array<glm::vec4, 4> q;
+    for (int p = 0; p < 4; ++p) {
+        const glm::vec4& v = quad_->v[size_t(k)][size_t(p)];
+        q[size_t(p)] = glm::vec4(v.x / v.w, v.y / v.w, v.z / v.w, 0.0f);
+    }
+    const int32_t lambda = tex::programLambdaQuad(*b.texture, b.sampler, q);
+    return tex::programFetch(*b.texture, b.sampler, q[size_t(pixel_)], lambda, setup_->path, fetches_);
+}
+
+glm::vec4 FragmentContext::sampleGrad(int u, const glm::vec4& c, const glm::vec4& dx,
+                                      const glm::vec4& dy) {
+    const detail::BoundUnit& b = unit(u);
+    const int32_t lambda = tex::programLambdaGrad(*b.texture, b.sampler, c, dx, dy);
+    return tex::programFetch(*b.texture, b.sampler, c, lambda, setup_->path, fetches_);
+}
+
+glm::vec4 FragmentContext::sampleLevel(int u, const glm::vec4& c, float lod) {
+    const detail::BoundUnit& b = unit(u);
+    const int32_t lambda = tex::programLambdaLod(b.sampler, lod);
+    return tex::programFetch(*b.texture, b.sampler, c, lambda, setup_->path, fetches_);
+}
+
+float FragmentContext::sampleCompare(int u, const glm::vec4& c, float ref) {
+    const detail::BoundUnit& b = unit(u);
+    const int32_t lambda = tex::programLambdaLod(b.sampler, 0.0f);
+    return tex::programFetchCompare(*b.texture, b.sampler, c, ref, lambda, setup_->path, fetches_);
+}
+
+// ---- output merger ------------------------------------------------------------------------
+
+namespace detail {
+
+float storedDepth(const ProgramDraw& d, double z) {
+    if (d.depthD24) {
+        const uint32_t q = quantizeDepth(z, (1u << 24) - 1u);
+        return float(double(q) / double((1u << 24) - 1u));
+    }
+    if (!(z > 0.0)) return 0.0f;  // NaN → 0, as the fixed-function quantizer
+    return z >= 1.0 ? 1.0f : float(z);
+}
+
+bool depthPasses(CompareFunc f, float incoming, float stored) {
+    switch (f) {
+        case CompareFunc::Never: return false;
+        case CompareFunc::Less: return incoming < stored;
+        case CompareFunc::Equal: return incoming == stored;
+        case CompareFunc::LessEqual: return incoming <= stored;
+        case CompareFunc::Greater: return incoming > stored;
+        case CompareFunc::NotEqual: return incoming != stored;
+        case CompareFunc::GreaterEqual: return incoming >= stored;
+        case CompareFunc::Always: return true;
+    }
+    return false;
+}
+
+namespace {
+
+// IEEE binary16, round to nearest even (Imath's conversion); overflow → ±infinity; every
+// NaN → the canonical quiet NaN 0x7E00, so the bytes do not depend on whether the
+// compiler used the F16C instruction or Imath's portable code (their NaN payloads differ).
+float roundToHalf(float v) {
+    if (v != v) return tex::halfToFloat(0x7E00);
+    return tex::halfToFloat(imath_float_to_half(v));
+}
+
+// What a target stores for a colour: R formats keep red (and read back as (r, 0, 0, 1)).
+glm::vec4 toStored(tex::TexelFormat f, const glm::vec4& v) {
+    switch (f) {
+        case tex::TexelFormat::R16F: return {roundToHalf(v.x), 0.0f, 0.0f, 1.0f};
+        case tex::TexelFormat::RGBA16F:
+            return {roundToHalf(v.x), roundToHalf(v.y), roundToHalf(v.z), roundToHalf(v.w)};
+        case tex::TexelFormat::R32F: return {v.x, 0.0f, 0.0f, 1.0f};
+        default: return v;
+    }
+}
+
+float factorValue(BlendFactor f, int c, const glm::vec4& s, const glm::vec4& d) {
+    switch (f) {
+        case BlendFactor::Zero: return 0.0f;
+        case BlendFactor::One: return 1.0f;
+        case BlendFactor::SrcColor: return s[c];
+        case BlendFactor::InvSrcColor: return 1.0f - s[c];
+        case BlendFactor::SrcAlpha: return s.w;
+        case BlendFactor::InvSrcAlpha: return 1.0f - s.w;
+        case BlendFactor::DestAlpha: return d.w;
+        case BlendFactor::InvDestAlpha: return 1.0f - d.w;
+        case BlendFactor::DestColor: return d[c];
+        case BlendFactor::InvDestColor: return 1.0f - d[c];
+        case BlendFactor::SrcAlphaSat: return c == 3 ? 1.0f : std::min(s.w, 1.0f - d.w);
+        case BlendFactor::BothSrcAlpha: return s.w;
+        case BlendFactor::BothInvSrcAlpha: return 1.0f - s.w;
+    }
+    return 0.0f;
+}
+
+// Float blending (Direct3D 10 on float targets: unclamped, single precision here; the
+// products and the sum rounded separately — no fused multiply-add).
+glm::vec4 blendFloat(const TargetBlend& b, const glm::vec4& s, const glm::vec4& d) {
+    const BlendFactor df = effectiveDestFactor(b.src, b.dst);
+    glm::vec4 r(0.0f);
+    for (int c = 0; c < 4; ++c) {
+        const float sf = s[c] * factorValue(b.src, c, s, d);
+        const float dfv = d[c] * factorValue(df, c, s, d);
+        switch (b.op) {
+            case BlendOp::Add: r[c] = sf + dfv; break;
+            case BlendOp::Subtract: r[c] = sf - dfv; break;
+            case BlendOp::RevSubtract: r[c] = dfv - sf; break;
+            case BlendOp::Min: r[c] = std::min(s[c], d[c]); break;
+            case BlendOp::Max: r[c] = std::max(s[c], d[c]); break;
+        }
+    }
+    return r;
+}
+
+}  // namespace
+
+void mergeFragment(const ProgramDraw& d, int x, int y, const FragmentContext& f) {
+    const uint32_t written = f.written();
+    for (int k = 0; k < d.numTargets; ++k) {
+        if (!((written >> k) & 1u)) continue;  // not written by this fragment: unchanged
+        const TargetView& t = d.targets[size_t(k)];
+        const size_t i = size_t(y) * size_t(t.width) + size_t(x);
+        if (t.data8) {
+            const Rgba8 dst = t.data8[i];
+            Rgba8 src = tex::floatToRgba8(f.out(k));
+            if (t.blend.enable) src = blendPixel(t.blend.src, t.blend.dst, t.blend.op, src, dst);
+            t.data8[i] = applyWriteMask(t.blend.writeMask, src, dst);
+        } else {
+            const glm::vec4 dst = t.dataF[i];
+            glm::vec4 src = f.out(k);
+            if (t.blend.enable) src = blendFloat(t.blend, src, dst);
+            const uint8_t m = t.blend.writeMask;
+            const glm::vec4 merged((m & kWriteR) ? src.x : dst.x, (m & kWriteG) ? src.y : dst.y,
+                                   (m & kWriteB) ? src.z : dst.z, (m & kWriteA) ? src.w : dst.w);
+            t.dataF[i] = toStored(t.format, merged);
+        }
+    }
+}
+
+}  // namespace detail
+
+// ---- the device ---------------------------------------------------------------------------
+
+struct ProgrammableDevice::Impl {
+    const Profile& profile;
+    DeviceOptions options;
+    std::unique_ptr<tbb::task_arena> arena;
+    std::vector<ColorTarget> colors;
+    DepthTarget depth;
+    int width = 0, height = 0;
+    ProgramState state;
+    Viewport viewport;
+    bool scissorOn = false;
+    Rect scissor;
+    std::array<std::shared_ptr<const tex::Texture>, kMaxProgramUnits> textures{};
+    std::array<detail::BoundUnit, kMaxProgramUnits> units{};
+    ProgramCounters counters;
+    detail::ProgramDraw draw;
+    std::vector<detail::ProgramVertex> vertices;
+    std::vector<detail::ProcessedVertex> processed;
+    detail::TriangleChunk chunk;
+    std::vector<detail::ProgramTriangle> tris;
+    std::vector<ProgramCounters> tileCounters;
+
+    Impl(const Profile& p, DeviceOptions o) : profile(p), options(o) { makeArena(); }
+    void makeArena() {
+        int n = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+        arena = std::make_unique<tbb::task_arena>(std::max(1, n));
+    }
+    void requireTargets() const {
+        if (width == 0) throw InvalidState("no render target attached (setRenderTargets)");
+    }
+};
+
+ProgrammableDevice::ProgrammableDevice(const Profile& profile, DeviceOptions options) {
+    profile.require(Feature::VertexProgram, "programmable device");
+    profile.require(Feature::FragmentProgram, "programmable device");
+    impl_ = std::make_unique<Impl>(profile, options);
+}
+ProgrammableDevice::~ProgrammableDevice() = default;
+
+const Profile& ProgrammableDevice::profile() const { return impl_->profile; }
+void ProgrammableDevice::setPath(Path path) { impl_->options.path = path; }
+void ProgrammableDevice::setThreads(int threads) {
+    impl_->options.threads = threads;
+    impl_->makeArena();
+}
+
+void ProgrammableDevice::setRenderTargets(std::span<const ColorTarget> colors, const DepthTarget& depth) {
+    Impl& m = *impl_;
+    if (colors.size() > size_t(kMaxColorTargets))
+        throw InvalidState(std::to_string(colors.size()) + " colour targets; at most " +
+                           std::to_string(kMaxColorTargets));
+    if (colors.size() > 1) m.profile.require(Feature::MultipleRenderTargets);
+    int w = 0, h = 0;
+    auto check = [&](const std::shared_ptr<tex::Texture>& t, int level, int face, const char* what,
+                     bool wantDepth) {
+        if (!t) throw InvalidState(std::string(what) + " has no texture");
+        if (!t->isRenderTarget())
+            throw InvalidState(std::string(what) + " is a " + std::string(t->format().name) +
+                               " texture not created as a render target (createRenderTarget)");
+        if (t->format().isDepth != wantDepth)
+            throw InvalidState(std::string(what) + " has format " + std::string(t->format().name));
+        if (level < 0 || level >= t->levels() || face < 0 || face >= t->faces())
+            throw InvalidState(std::string(what) + " level " + std::to_string(level) + " face " +
+                               std::to_string(face) + " does not exist");
+        const auto& s = t->levelSize(level);
+        if (w == 0) {
+            w = s[0];
+            h = s[1];
+        } else if (s[0] != w || s[1] != h) {
+            throw InvalidState(std::string(what) + " is " + std::to_string(s[0]) + "x" +
+                               std::to_string(s[1]) + " but the other targets are " +
+                               std::to_string(w) + "x" + std::to_string(h));
+        }
+    };
+    for (size_t i = 0; i < colors.size(); ++i) {
+        const std::string what = "render target " + std::to_string(i);
+        check(colors[i].texture, colors[i].level, colors[i].face, what.c_str(), false);
+    }
+    if (depth.texture) check(depth.texture, depth.level, depth.face, "depth target", true);
+    m.colors.assign(colors.begin(), colors.end());
+    m.depth = depth;
+    m.width = w;
+    m.height = h;
+    m.viewport = Viewport{0, 0, w, h, 0.0f, 1.0f};
+    m.scissorOn = false;
+}
+
+int ProgrammableDevice::targetWidth() const { return impl_->width; }
+int ProgrammableDevice::targetHeight() const { return impl_->height; }
+void ProgrammableDevice::setState(const ProgramState& state) {
+    if (!(state.pointSize > 0.0f) || !(state.pointSize <= 8192.0f))
+        throw InvalidState("point size " + std::to_string(state.pointSize) + " outside (0, 8192]");
+    impl_->state = state;
+}
+const ProgramState& ProgrammableDevice::state() const { return impl_->state; }
+
+void ProgrammableDevice::setViewport(const Viewport& vp) {
+    Impl& m = *impl_;
+    m.requireTargets();
+    if (vp.width <= 0 || vp.height <= 0 || vp.x < 0 || vp.y < 0 ||
+        int64_t(vp.x) + vp.width > m.width || int64_t(vp.y) + vp.height > m.height)
+        throw InvalidState("viewport " + std::to_string(vp.width) + "x" + std::to_string(vp.height) +
+                           " at (" + std::to_string(vp.x) + ", " + std::to_string(vp.y) +
+                           ") is empty or outside the " + std::to_string(m.width) + "x" +
+                           std::to_string(m.height) + " target");
+    m.viewport = vp;
+}
+
+void ProgrammableDevice::setScissor(const Rect* rect) {
+    impl_->scissorOn = rect != nullptr;
+    if (rect) impl_->scissor = *rect;
+}
+
+void ProgrammableDevice::setTexture(int unit, std::shared_ptr<const tex::Texture> texture,
+                                    const tex::SamplerState& sampler) {
+    if (unit < 0 || unit >= kMaxProgramUnits || unit >= impl_->profile.maxTextureStages)
+        throw InvalidState("texture unit " + std::to_string(unit) + " outside the " +
+                           std::to_string(std::min(kMaxProgramUnits, impl_->profile.maxTextureStages)) +
+                           " units of profile '" + std::string(impl_->profile.name) + "'");
+    if (texture && !texture->complete())
+        throw InvalidState("texture bound to unit " + std::to_string(unit) + " has levels never uploaded");
+    impl_->units[size_t(unit)] = detail::BoundUnit{texture.get(), sampler};
+    impl_->textures[size_t(unit)] = std::move(texture);
+}
+
+void ProgrammableDevice::beginFrame() { impl_->counters = ProgramCounters{}; }
+const ProgramCounters& ProgrammableDevice::counters() const { return impl_->counters; }
+
+namespace {
+// The pixels a clear touches: viewport ∩ scissor.
+void clearRect(const Viewport& vp, bool scissorOn, const Rect& sc, int w, int h, int& x0, int& y0,
+               int& x1, int& y1) {
+    int64_t a = vp.x, b = vp.y, c = int64_t(vp.x) + vp.width, d = int64_t(vp.y) + vp.height;
+    if (scissorOn) {
+        a = std::max<int64_t>(a, sc.x);
+        b = std::max<int64_t>(b, sc.y);
+        c = std::min<int64_t>(c, int64_t(sc.x) + sc.width);
+        d = std::min<int64_t>(d, int64_t(sc.y) + sc.height);
+    }
+    x0 = int(std::clamp<int64_t>(a, 0, w));
+    y0 = int(std::clamp<int64_t>(b, 0, h));
+    x1 = int(std::clamp<int64_t>(c, 0, w));
+    y1 = int(std::clamp<int64_t>(d, 0, h));
+}
+}  // namespace
+
+void ProgrammableDevice::clearColor(int target, const glm::vec4& value) {
+    Impl& m = *impl_;
+    if (target < 0 || size_t(target) >= m.colors.size())
+        throw InvalidState("clear of render target " + std::to_string(target) + ", which is not attached");
+    const ColorTarget& ct = m.colors[size_t(target)];
+    int x0, y0, x1, y1;
+    clearRect(m.viewport, m.scissorOn, m.scissor, m.width, m.height, x0, y0, x1, y1);
+    tex::Texture& t = *ct.texture;
+    if (!t.isFloat()) {
+        const Rgba8 v = tex::floatToRgba8(value);
+        Rgba8* p = t.renderData8(ct.level, ct.face);
+        for (int y = y0; y < y1; ++y) std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, v);
+    } else {
+        const glm::vec4 v = detail::toStored(t.desc().format, value);
+        glm::vec4* p = t.renderDataF(ct.level, ct.face);
+        for (int y = y0; y < y1; ++y) std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, v);
+    }
+}
+
+void ProgrammableDevice::clearDepth(float value) {
+    Impl& m = *impl_;
+    if (!m.depth.texture) throw InvalidState("depth clear without a depth target");
+    detail::ProgramDraw d;
+    d.depthD24 = m.depth.texture->desc().format == tex::TexelFormat::Depth24;
+    const float z = detail::storedDepth(d, double(value));
+    int x0, y0, x1, y1;
+    clearRect(m.viewport, m.scissorOn, m.scissor, m.width, m.height, x0, y0, x1, y1);
+    glm::vec4* p = m.depth.texture->renderDataF(m.depth.level, m.depth.face);
+    for (int y = y0; y < y1; ++y)
+        std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, glm::vec4(z, z, z, 1.0f));
+}
+
+detail::ProgramDraw& ProgrammableDevice::beginDraw(int varyings, uint32_t targets, uint32_t units,
+                                                   ProgramPrimitive primitive, size_t vertexCount,
+                                                   std::span<const uint32_t> indices) {
+    Impl& m = *impl_;
+    m.requireTargets();
+    const uint32_t attached = (1u << m.colors.size()) - 1u;
+    for (int k = 0; k < 32; ++k)
+        if (((targets >> k) & 1u) && !((attached >> k) & 1u))
+            throw InvalidState("fragment program writes render target " + std::to_string(k) +
+                               ", which is not attached (" + std::to_string(m.colors.size()) +
+                               " attached)");
+    for (int u = 0; u < 32; ++u) {
+        if (!((units >> u) & 1u)) continue;
+        if (u >= kMaxProgramUnits || !m.units[size_t(u)].texture)
+            throw InvalidState("fragment program reads texture unit " + std::to_string(u) +
+                               ", which has no texture bound");
+        const tex::Texture* t = m.units[size_t(u)].texture;
+        for (size_t k = 0; k < m.colors.size(); ++k)
+            if (m.colors[k].texture.get() == t)
+                throw InvalidState("texture unit " + std::to_string(u) + " samples render target " +
+                                   std::to_string(k) + " while the draw writes it");
+        if (m.depth.texture.get() == t && (m.state.depthWrite || m.state.depthTest))
+            throw InvalidState("texture unit " + std::to_string(u) +
+                               " samples the depth target while the draw uses it");
+    }
+    if (primitive == ProgramPrimitive::PointList && varyings >= kMaxVaryings)
+        throw InvalidState("point primitives carry at most " + std::to_string(kMaxVaryings - 1) +
+                           " varyings (the point coordinate takes the last slot)");
+    for (uint32_t i : indices)
+        if (i >= vertexCount)
+            throw InvalidState("index " + std::to_string(i) + " past the " + std::to_string(vertexCount) +
+                               " vertices of the draw");
+
+    detail::ProgramDraw& d = m.draw;
+    d = detail::ProgramDraw{};
+    d.subpixelBits = m.profile.subpixelBits;
+    d.varyings = varyings;
+    d.points = primitive == ProgramPrimitive::PointList;
+    d.numTargets = int(m.colors.size());
+    for (size_t k = 0; k < m.colors.size(); ++k) {
+        const ColorTarget& ct = m.colors[k];
+        detail::TargetView& v = d.targets[k];
+        v.format = ct.texture->desc().format;
+        v.width = m.width;
+        v.blend = m.state.blend[k];
+        if (ct.texture->isFloat())
+            v.dataF = ct.texture->renderDataF(ct.level, ct.face);
+        else
+            v.data8 = ct.texture->renderData8(ct.level, ct.face);
+    }
+    if (m.depth.texture && (m.state.depthTest || m.state.depthWrite)) {
+        d.depthData = m.depth.texture->renderDataF(m.depth.level, m.depth.face);
+        d.depthWidth = m.width;
+        d.depthD24 = m.depth.texture->desc().format == tex::TexelFormat::Depth24;
+        d.depthTest = m.state.depthTest != 0;
+        d.depthWrite = m.state.depthWrite != 0;
+        d.depthFunc = m.state.depthFunc;
+    }
+    d.ctx.units = &m.units;
+    d.ctx.declaredUnits = units;
+    d.ctx.declaredTargets = targets;
+    d.ctx.path = m.options.path;
+    return d;
+}
+
+std::vector<detail::ProgramVertex>& ProgrammableDevice::vertexScratch(size_t n) {
+    impl_->vertices.resize(n);
+    impl_->counters.vertexInvocations += n;
+    return impl_->vertices;
+}
+
+void ProgrammableDevice::forEachVertexRange(size_t n, const std::function<void(size_t, size_t)>& body) {
+    Impl& m = *impl_;
+    // Each vertex is independent, so any split gives the same bytes.
+    if (m.options.path == Path::Reference || n < 4096) {
+        body(0, n);
+        return;
+    }
+    m.arena->execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048),
+                          [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+    });
+}
+
+void ProgrammableDevice::finishDraw(ProgramPrimitive primitive, std::span<const uint32_t> indices,
+                                    detail::TriangleKernelFn fast, detail::TriangleKernelFn reference,
+                                    void* kernel) {
+    using namespace detail;
+    Impl& m = *impl_;
+    ProgramDraw& d = m.draw;
+    const bool points = primitive == ProgramPrimitive::PointList;
+    const int varyingFloats = 4 * d.varyings + (points ? 2 : 0);
+    const Rect* scissor = m.scissorOn ? &m.scissor : nullptr;
+    const CullMode cull = points ? CullMode::None : m.state.cull;
+    const DrawContext dc = makeProgramDrawContext(m.width, m.height, m.viewport, scissor, cull,
+                                                  d.subpixelBits, varyingFloats,
+                                                  d.depthData != nullptr, m.options.path);
+    ++m.counters.drawCalls;
+
+    // ---- primitive assembly, clip and setup (the fixed-function code) ---------------------
+    auto toProcessed = [&](const ProgramVertex& pv, ProcessedVertex& out) {
+        out.clip = pv.clip;
+        for (int a = 0; a < 4 * d.varyings; ++a)
+            out.attr[size_t(kColorAttrs + a)] = pv.varyings[size_t(a >> 2)][a & 3];
+        projectProgramVertex(dc, out);
+    };
+    const size_t n = indices.empty() ? m.vertices.size() : indices.size();
+    auto vertexAt = [&](size_t i) -> const ProgramVertex& {
+        return m.vertices[indices.empty() ? i : size_t(indices[i])];
+    };
+    TriangleChunk& chunk = m.chunk;
+    chunk.tris.clear();
+    chunk.texPlanes.clear();
+    GeometryCounters gc;
+    const Rgba8 none{};
+    if (points) {
+        // A point is the square of edge pointSize centred on its position: two triangles
+        // sharing the diagonal, so the top-left rule gives each covered pixel to one.
+        const float hx = m.state.pointSize / float(m.viewport.width);
+        const float hy = m.state.pointSize / float(m.viewport.height);
+        static constexpr float kCorner[4][4] = {  // NDC offset signs, then point coordinate
+            {-1, 1, 0, 0}, {1, 1, 1, 0}, {-1, -1, 0, 1}, {1, -1, 1, 1}};
+        m.processed.resize(4);
+        for (size_t i = 0; i < n; ++i) {
+            const ProgramVertex& pv = vertexAt(i);
+            for (int c = 0; c < 4; ++c) {
+                ProgramVertex corner = pv;
+                corner.clip.x = pv.clip.x + kCorner[c][0] * hx * pv.clip.w;
+                corner.clip.y = pv.clip.y + kCorner[c][1] * hy * pv.clip.w;
+                ProcessedVertex& pr = m.processed[size_t(c)];
+                toProcessed(corner, pr);
+                pr.attr[size_t(kColorAttrs + 4 * d.varyings)] = kCorner[c][2];
+                pr.attr[size_t(kColorAttrs + 4 * d.varyings + 1)] = kCorner[c][3];
+            }
+            GeometryCounters pc;
+            clipAndSetup(dc, m.processed[0], m.processed[1], m.processed[2], none, none, chunk.tris,
+                         chunk.texPlanes, pc);
+            clipAndSetup(dc, m.processed[1], m.processed[3], m.processed[2], none, none, chunk.tris,
+                         chunk.texPlanes, pc);
+            gc.add(pc);
+        }
+        m.counters.primitivesSubmitted += n;
+    } else {
+        m.processed.resize(n);
+        for (size_t i = 0; i < n; ++i) toProcessed(vertexAt(i), m.processed[i]);
+        const Primitive prim = primitive == ProgramPrimitive::TriangleList    ? Primitive::TriangleList
+                               : primitive == ProgramPrimitive::TriangleStrip ? Primitive::TriangleStrip
+                                                                              : Primitive::TriangleFan;
+        const uint32_t count = triangleCount(prim, uint32_t(n));
+        for (uint32_t i = 0; i < count; ++i) {
+            const auto v = triangleVertices(prim, i);
+            clipAndSetup(dc, m.processed[v[0]], m.processed[v[1]], m.processed[v[2]], none, none,
+                         chunk.tris, chunk.texPlanes, gc);
+        }
+        m.counters.primitivesSubmitted += count;
+    }
+    m.counters.trianglesDrawn += gc.drawn;
+    m.counters.trianglesCulled += gc.culled;
+    m.counters.trianglesClipped += gc.clipped;
+    m.counters.primitivesInvalid += gc.invalid;
+
+    m.tris.resize(chunk.tris.size());
+    for (size_t i = 0; i < chunk.tris.size(); ++i) {
+        const SetupTriangle& s = chunk.tris[i];
+        ProgramTriangle& t = m.tris[i];
+        t.A = s.A;
+        t.B = s.B;
+        t.C = s.C;
+        t.minX = s.minX; t.minY = s.minY; t.maxX = s.maxX; t.maxY = s.maxY;
+        t.x0 = s.x0; t.y0 = s.y0;
+        t.zc = s.zc; t.zdx = s.zdx; t.zdy = s.zdy;
+        t.iwC = s.invW.c; t.iwDx = s.invW.dx; t.iwDy = s.invW.dy;
+        t.planes = chunk.texPlanes.empty() ? nullptr
+                                           : reinterpret_cast<const float*>(chunk.texPlanes.data() + s.texPlanes);
+    }
+
+    // ---- rasterization ------------------------------------------------------------------
+    if (m.options.path == Path::Reference) {
+        ProgramCounters c;
+        for (const ProgramTriangle& t : m.tris) reference(kernel, t, 0, 0, 0, 0, c);
+        m.counters.add(c);
+        return;
+    }
+    const int tilesX = (m.width + kTileSize - 1) >> kTileShift;
+    const int tilesY = (m.height + kTileSize - 1) >> kTileShift;
+    binChunk(chunk, tilesX, tilesY);
+    const int tiles = tilesX * tilesY;
+    m.tileCounters.assign(size_t(tiles), ProgramCounters{});
+    auto runTile = [&](int tile) {
+        const int tx = tile % tilesX, ty = tile / tilesX;
+        const int x0 = tx << kTileShift, y0 = ty << kTileShift;
+        const int x1 = std::min(m.width, x0 + kTileSize) - 1, y1 = std::min(m.height, y0 + kTileSize) - 1;
+        ProgramCounters& c = m.tileCounters[size_t(tile)];
+        for (uint32_t b = chunk.binStart[size_t(tile)]; b < chunk.binStart[size_t(tile) + 1]; ++b)
+            fast(kernel, m.tris[chunk.binItems[b]], x0, y0, x1, y1, c);
+    };
+    if (m.arena->max_concurrency() <= 1) {
+        for (int t = 0; t < tiles; ++t) runTile(t);
+    } else {
+        m.arena->execute([&] {
+            tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& r) {
+                for (int t = r.begin(); t < r.end(); ++t) runTile(t);
+            });
+        });
+    }
+    for (const ProgramCounters& c : m.tileCounters) m.counters.add(c);
+}
+
+}  // namespace rg::raster

@@ -1,0 +1,644 @@
+// The programmable profile (geforce8800): programs, float targets, MRT, render-to-texture,
+// depth compare, points, counters, errors, and the reference/fast agreement.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "core/error.h"
+#include "core/profile.h"
+#include "rasterizer/device.h"
+#include "rasterizer/programmable_device.h"
+#include "rasterizer/trace.h"
+#include "texunit/format.h"
+#include "texunit/program_fetch.h"
+
+namespace rg::raster {
+namespace {
+
+using tex::TexelFormat;
+using tex::TextureDesc;
+using tex::TextureMemory;
+using tex::TextureTarget;
+
+const Profile& g80() { return profile(ProfileId::GeForce8800); }
+
+// ---- programs used by the tests ---------------------------------------------------------
+
+struct ScreenVertex {
+    glm::vec4 position;  // clip space
+    glm::vec4 attr;
+};
+
+struct PassVP {  // clip position as given, one varying
+    static constexpr int kVaryings = 1;
+    glm::vec4 operator()(const ScreenVertex& v, Varyings& out) const {
+        out[0] = v.attr;
+        return v.position;
+    }
+};
+
+struct VaryingFP {  // writes varying 0 to target 0
+    static constexpr int kVaryings = 1;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 0;
+    static constexpr bool kWritesDepth = false;
+    void operator()(FragmentContext& f) const { f.output(0, f.varying(0)); }
+};
+
+struct SampleFP {  // unit 0 at varying 0, implicit LOD
+    static constexpr int kVaryings = 1;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 1;
+    static constexpr bool kWritesDepth = false;
+    void operator()(FragmentContext& f) const { f.output(0, f.sample(0, 0)); }
+};
+
+struct TwoTargets : VaryingFP {
+    static constexpr uint32_t kTargets = 3;
+};
+
+struct Sneaky : VaryingFP {
+    void operator()(FragmentContext& f) const { f.output(2, glm::vec4(1)); }
+};
+
+struct Mrt {
+    static constexpr int kVaryings = 1;
+    static constexpr uint32_t kTargets = 3;
+    static constexpr uint32_t kUnits = 0;
+    static constexpr bool kWritesDepth = false;
+    void operator()(FragmentContext& f) const {
+        f.output(0, glm::vec4(1.5f, 0.25f, 3.0f, 1.0f));
+        f.output(1, glm::vec4(0.125f));
+    }
+};
+
+struct WritesDepth : VaryingFP {
+    static constexpr bool kWritesDepth = true;
+    void operator()(FragmentContext& f) const {
+        f.output(0, glm::vec4(1));
+        f.depth(0.1f);
+    }
+};
+
+struct Shadow {
+    static constexpr int kVaryings = 1;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 1;
+    static constexpr bool kWritesDepth = false;
+    void operator()(FragmentContext& f) const {
+        const glm::vec4 v = f.varying(0);
+        f.output(0, glm::vec4(f.sampleCompare(0, v, 0.05f), f.sampleCompare(0, v, 0.2f), 0, 1));
+    }
+};
+
+struct Splat {
+    static constexpr int kVaryings = 1;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 0;
+    static constexpr bool kWritesDepth = false;
+    void operator()(FragmentContext& f) const {
+        const glm::vec2 pc = f.pointCoord();
+        f.output(0, glm::vec4(pc.x, pc.y, 1.0f, 0.0f));
+    }
+};
+
+// Window-space rectangle [x0, x1) × [y0, y1) of a w×h target as two clip-space triangles.
+std::vector<ScreenVertex> rect(int w, int h, float x0, float y0, float x1, float y1, float z,
+                               glm::vec4 a00, glm::vec4 a10, glm::vec4 a01, glm::vec4 a11) {
+    auto clip = [&](float x, float y) {
+        return glm::vec4(2.0f * x / float(w) - 1.0f, 1.0f - 2.0f * y / float(h), z, 1.0f);
+    };
+    ScreenVertex v00{clip(x0, y0), a00}, v10{clip(x1, y0), a10}, v01{clip(x0, y1), a01},
+        v11{clip(x1, y1), a11};
+    return {v00, v10, v01, v10, v11, v01};
+}
+
+struct Fixture {
+    std::shared_ptr<TextureMemory> memory = std::make_shared<TextureMemory>(g80());
+    std::shared_ptr<tex::Texture> target(int w, int h, TexelFormat f) {
+        TextureDesc d;
+        d.format = f;
+        d.width = w;
+        d.height = h;
+        return memory->createRenderTarget(d);
+    }
+};
+
+// ---- profile and errors -------------------------------------------------------------------
+
+TEST(ProgrammableErrors, FixedFunctionProfilesHaveNoPrograms) {
+    for (ProfileId id : {ProfileId::GeForce256, ProfileId::GeForce3, ProfileId::SgiOctaneMxe, ProfileId::SgiO2}) {
+        try {
+            ProgrammableDevice dev(profile(id));
+            FAIL() << "profile " << profile(id).name << " accepted a programmable device";
+        } catch (const UnsupportedFeature& e) {
+            EXPECT_NE(std::string(e.what()).find(std::string(profile(id).name)), std::string::npos) << e.what();
+        }
+    }
+    TextureMemory m(profile(ProfileId::GeForce256));
+    TextureDesc d;
+    d.format = TexelFormat::RGBA16F;
+    d.width = d.height = 16;
+    EXPECT_THROW(m.createRenderTarget(d), UnsupportedFeature);
+}
+
+TEST(ProgrammableErrors, UnboundUnitUnattachedTargetAndMismatches) {
+    Fixture fx;
+    ProgrammableDevice dev(g80());
+    auto verts = rect(8, 8, 0, 0, 8, 8, 0.5f, {}, {}, {}, {});
+    // No target at all.
+    EXPECT_THROW(dev.draw(PassVP{}, VaryingFP{}, ProgramPrimitive::TriangleList,
+                          std::span<const ScreenVertex>(verts)), InvalidState);
+    auto rt = fx.target(8, 8, TexelFormat::RGBA8);
+    ColorTarget ct{rt};
+    dev.setRenderTargets({&ct, 1});
+    // Unit 0 declared but unbound.
+    try {
+        dev.draw(PassVP{}, SampleFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
+        FAIL();
+    } catch (const InvalidState& e) {
+        EXPECT_NE(std::string(e.what()).find("texture unit 0"), std::string::npos) << e.what();
+    }
+    // Sampling the target being written.
+    dev.setTexture(0, rt);
+    EXPECT_THROW(dev.draw(PassVP{}, SampleFP{}, ProgramPrimitive::TriangleList,
+                          std::span<const ScreenVertex>(verts)), InvalidState);
+    // A program writing target 1 with one target attached.
+    try {
+        dev.draw(PassVP{}, TwoTargets{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
+        FAIL();
+    } catch (const InvalidState& e) {
+        EXPECT_NE(std::string(e.what()).find("render target 1"), std::string::npos) << e.what();
+    }
+    // A write to an undeclared target at run time.
+    EXPECT_THROW(dev.draw(PassVP{}, Sneaky{}, ProgramPrimitive::TriangleList,
+                          std::span<const ScreenVertex>(verts)), InvalidState);
+    // Targets of different sizes; a plain texture as a target; an index past the end.
+    auto other = fx.target(16, 8, TexelFormat::RGBA8);
+    ColorTarget two[2] = {{rt}, {other}};
+    EXPECT_THROW(dev.setRenderTargets(two), InvalidState);
+    TextureDesc plain;
+    plain.width = plain.height = 8;
+    ColorTarget notRt{fx.memory->create(plain)};
+    EXPECT_THROW(dev.setRenderTargets({&notRt, 1}), InvalidState);
+    const uint32_t bad[3] = {0, 1, 99};
+    EXPECT_THROW(dev.draw(PassVP{}, VaryingFP{}, ProgramPrimitive::TriangleList,
+                          std::span<const ScreenVertex>(verts), bad), InvalidState);
+}
+
+// ---- interpolation and coverage -----------------------------------------------------------
+
+TEST(ProgrammableRaster, AffineVaryingIsExactToAnUlpAndCoverageMatchesFixedFunction) {
+    Fixture fx;
+    const int W = 64, H = 64;  // powers of two: window ↔ clip conversions below are exact
+    auto rt = fx.target(W, H, TexelFormat::RGBA32F);
+    ProgrammableDevice dev(g80());
+    ColorTarget ct{rt};
+    dev.setRenderTargets({&ct, 1});
+    dev.clearColor(0, glm::vec4(-1.0f));
+    // Varying = window position, so each pixel must read its own centre.
+    auto verts = rect(W, H, 0, 0, W, H, 0.5f, {0, 0, 0, 1}, {W, 0, 0, 1}, {0, H, 0, 1}, {W, H, 0, 1});
+    dev.draw(PassVP{}, VaryingFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
+    const glm::vec4* p = rt->renderDataF(0, 0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            ASSERT_NEAR(p[y * W + x].x, x + 0.5f, 1e-4f) << x << "," << y;
+            ASSERT_NEAR(p[y * W + x].y, y + 0.5f, 1e-4f) << x << "," << y;
+        }
+    EXPECT_EQ(dev.counters().fragmentInvocations, uint64_t(W * H));
+
+    // Random triangles: the pixels covered are exactly the fixed-function pipeline's
+    // (same snapping, edges and top-left rule).
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-0.3f, 1.3f);
+    Device ff(g80(), W, H, DepthFormat::None);
+    PipelineState st;
+    st.cull = CullMode::None;
+    st.depthTest = 0;
+    ff.setState(st);
+    auto rt8 = fx.target(W, H, TexelFormat::RGBA8);
+    ColorTarget c8{rt8};
+    dev.setRenderTargets({&c8, 1});
+    for (int iter = 0; iter < 200; ++iter) {
+        std::vector<ScreenVertex> tri(3);
+        std::vector<Vertex> ffv(3);
+        for (int i = 0; i < 3; ++i) {
+            // On a 1/1024-pixel grid, so that clip → window reproduces x and y exactly.
+            const float x = std::round(u(rng) * W * 1024.0f) / 1024.0f;
+            const float y = std::round(u(rng) * H * 1024.0f) / 1024.0f;
+            tri[size_t(i)] = {glm::vec4(2.0f * x / W - 1.0f, 1.0f - 2.0f * y / H, 0.5f, 1.0f), glm::vec4(1.0f)};
+            ffv[size_t(i)].position = glm::vec4(x, y, 0.5f, 1.0f);
+            ffv[size_t(i)].diffuse = Rgba8{255, 255, 255, 255};
+        }
+        dev.clearColor(0, glm::vec4(0.0f));
+        dev.draw(PassVP{}, VaryingFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(tri));
+        ff.clear(true, Rgba8{0, 0, 0, 0}, false, 1.0f);
+        ff.draw(Primitive::TriangleList, VertexSpace::Pretransformed, ffv);
+        const Rgba8* a = rt8->renderData8(0, 0);
+        const auto b = ff.readPixels(0, 0, W, H);
+        for (int i = 0; i < W * H; ++i)
+            ASSERT_EQ(a[i].r != 0, b[size_t(i)].r != 0) << "triangle " << iter << " pixel " << i;
+    }
+}
+
+// ---- float targets ------------------------------------------------------------------------
+
+// The nearest binary16 by search: an oracle independent of the converter.
+float nearestHalf(float v) {
+    if (std::isnan(v)) return std::numeric_limits<float>::quiet_NaN();
+    if (std::fabs(v) >= 65520.0f) return std::copysign(INFINITY, v);  // past max + ½ ulp
+    float best = 0.0f;
+    double bestErr = INFINITY;
+    uint16_t bestBits = 0;
+    // Bracket by the float's magnitude: check every half with the same sign.
+    for (uint32_t h = 0; h < 0x7C00; ++h) {
+        const uint16_t bits = uint16_t(h | (v < 0 ? 0x8000 : 0));
+        const float c = tex::halfToFloat(bits);
+        const double err = std::fabs(double(c) - double(v));
+        if (err < bestErr || (err == bestErr && (h & 1) == 0 && (bestBits & 1) == 1)) {
+            best = c;
+            bestErr = err;
+            bestBits = bits;
+        }
+    }
+    return best;
+}
+
+TEST(ProgrammableFloatTargets, Rgba16fRoundsToNearestEven) {
+    Fixture fx;
+    auto rt = fx.target(4, 4, TexelFormat::RGBA16F);
+    ProgrammableDevice dev(g80());
+    ColorTarget ct{rt};
+    dev.setRenderTargets({&ct, 1});
+    std::mt19937 rng(3);
+    std::vector<float> values = {0.0f, 1.0f, 1.0f + 1.0f / 2048.0f, 1.0f + 3.0f / 2048.0f,  // ties
+                                 65504.0f, 65519.0f, 65520.0f, 1e-8f, 5.9604645e-08f, -2.5f};
+    std::uniform_int_distribution<uint32_t> bitsDist(0, 0x477FFFFFu);
+    for (int i = 0; i < 300; ++i) {
+        uint32_t b = bitsDist(rng);
+        float f;
+        std::memcpy(&f, &b, 4);
+        values.push_back(i & 1 ? -f : f);
+    }
+    for (float v : values) {
+        dev.clearColor(0, glm::vec4(v));
+        const float got = rt->renderDataF(0, 0)[0].x;
+        const float want = nearestHalf(v);
+        ASSERT_EQ(std::memcmp(&got, &want, 4) == 0 || (got == 0.0f && want == 0.0f), true)
+            << "value " << v << " stored " << got << " nearest half " << want;
+    }
+    dev.clearColor(0, glm::vec4(std::nanf("")));
+    EXPECT_TRUE(std::isnan(rt->renderDataF(0, 0)[0].x));
+}
+
+TEST(ProgrammableFloatTargets, AdditiveBlendAccumulatesUnclampedAndMrtWritesEachTarget) {
+    Fixture fx;
+    const int W = 16, H = 16;
+    auto a = fx.target(W, H, TexelFormat::RGBA32F);
+    auto b = fx.target(W, H, TexelFormat::R16F);
+    ProgrammableDevice dev(g80());
+    ColorTarget cts[2] = {{a}, {b}};
+    dev.setRenderTargets(cts);
+    ProgramState st;
+    st.blend[0] = TargetBlend{1, BlendFactor::One, BlendFactor::One, BlendOp::Add, kWriteRGBA};
+    st.blend[1] = TargetBlend{1, BlendFactor::One, BlendFactor::One, BlendOp::Add, kWriteRGBA};
+    dev.setState(st);
+    auto verts = rect(W, H, 0, 0, W, H, 0.5f, {}, {}, {}, {});
+    for (int pass = 0; pass < 5; ++pass)
+        dev.draw(PassVP{}, Mrt{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
+    EXPECT_EQ(a->renderDataF(0, 0)[37], glm::vec4(7.5f, 1.25f, 15.0f, 5.0f));
+    EXPECT_EQ(b->renderDataF(0, 0)[37], glm::vec4(0.625f, 0.0f, 0.0f, 1.0f));
+}
+
+// ---- render to texture, depth, depth compare ----------------------------------------------
+
+TEST(ProgrammableRenderToTexture, SecondPassSamplesTheFirstWithoutACopy) {
+    Fixture fx;
+    const int W = 32, H = 32;
+    auto first = fx.target(W, H, TexelFormat::RGBA16F);
+    auto second = fx.target(W, H, TexelFormat::RGBA32F);
+    ProgrammableDevice dev(g80());
+    ColorTarget c1{first};
+    dev.setRenderTargets({&c1, 1});
+    auto verts = rect(W, H, 0, 0, W, H, 0.5f, {0, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}, {1, 1, 0, 1});
+    dev.draw(PassVP{}, VaryingFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
+    ColorTarget c2{second};
+    dev.setRenderTargets({&c2, 1});
+    tex::SamplerState nearest;
+    nearest.magFilter = nearest.minFilter = tex::FilterMode::Nearest;
+    dev.setTexture(0, first, nearest);
+    dev.draw(PassVP{}, SampleFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
+    // Each pixel reads its own texel of the first pass (uv at the pixel centre).
+    for (int i = 0; i < W * H; ++i) ASSERT_EQ(second->renderDataF(0, 0)[i], first->renderDataF(0, 0)[i]) << i;
+    EXPECT_EQ(dev.counters().textureFetches, uint64_t(W * H));
+    EXPECT_EQ(dev.counters().maxFetchesPerFragment, 1u);
+}
+
+TEST(ProgrammableDepth, EarlyAndLateDepthTestAndShadowCompare) {
+    Fixture fx;
+    const int W = 16, H = 16;
+    auto rt = fx.target(W, H, TexelFormat::RGBA8);
+    TextureDesc dd;
+    dd.format = TexelFormat::Depth24;
+    dd.width = W;
+    dd.height = H;
+    auto depth = fx.memory->createRenderTarget(dd);
+    ProgrammableDevice dev(g80());
+    ColorTarget ct{rt};
+    dev.setRenderTargets({&ct, 1}, DepthTarget{depth});
+    ProgramState st;
+    st.depthTest = st.depthWrite = 1;
+    st.depthFunc = CompareFunc::Less;
+    dev.setState(st);
+    dev.clearDepth(1.0f);
+    // Left half at z = 0.25 first, then a full quad at z = 0.5: only the right half passes.
+    auto left = rect(W, H, 0, 0, W / 2, H, 0.25f, {}, {}, {}, {});
+    auto full = rect(W, H, 0, 0, W, H, 0.5f, {}, {}, {}, {});
+    dev.draw(PassVP{}, VaryingFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(left));
+    dev.beginFrame();
+    dev.draw(PassVP{}, VaryingFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(full));
+    EXPECT_EQ(dev.counters().fragmentsGenerated, uint64_t(W * H));
+    EXPECT_EQ(dev.counters().fragmentsDepthFailed, uint64_t(W * H / 2));
+    EXPECT_EQ(dev.counters().fragmentInvocations, uint64_t(W * H / 2));  // early test
+    const float q25 = float(double(std::floor(0.25 * 16777215.0 + 0.5)) / 16777215.0);
+    EXPECT_EQ(depth->renderDataF(0, 0)[3].x, q25);
+
+    // A program writing depth runs for every pixel (late test).
+    dev.beginFrame();
+    dev.draw(PassVP{}, WritesDepth{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(full));
+    EXPECT_EQ(dev.counters().fragmentInvocations, uint64_t(W * H));
+    EXPECT_EQ(dev.counters().fragmentsDepthFailed, 0u);
+
+    // The depth target as a shadow map: ref ≤ 0.1 passes, ref > 0.1 fails; LINEAR on a
+    // step gives the percentage-closer fraction.
+    auto rt2 = fx.target(W, H, TexelFormat::RGBA32F);
+    ColorTarget c2{rt2};
+    dev.setRenderTargets({&c2, 1});
+    dev.setState(ProgramState{});
+    tex::SamplerState cmp;
+    cmp.magFilter = cmp.minFilter = tex::FilterMode::Nearest;
+    cmp.address = {tex::AddressMode::ClampToEdge, tex::AddressMode::ClampToEdge,
+                   tex::AddressMode::ClampToEdge, tex::AddressMode::ClampToEdge};
+    dev.setTexture(0, depth, cmp);
+    auto uv = rect(W, H, 0, 0, W, H, 0.5f, {0, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}, {1, 1, 0, 1});
+    dev.draw(PassVP{}, Shadow{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(uv));
+    EXPECT_EQ(rt2->renderDataF(0, 0)[5], glm::vec4(1, 0, 0, 1));
+    // Percentage-closer: a depth step between texels 7 and 8 of a row, sampled LINEAR
+    // halfway between the two texel centres → exactly half the weight passes.
+    glm::vec4* dp = depth->renderDataF(0, 0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) dp[y * W + x] = glm::vec4(x < 8 ? 0.0f : 1.0f);
+    cmp.magFilter = cmp.minFilter = tex::FilterMode::Linear;
+    uint32_t fetches = 0;
+    const float pcf = tex::programFetchCompare(*depth, cmp, glm::vec4(8.0f / W, 0.5f, 0, 0), 0.5f,
+                                               tex::programLambdaLod(cmp, 0.0f), Path::Fast, fetches);
+    EXPECT_EQ(pcf, 0.5f);
+    EXPECT_EQ(fetches, 4u);
+}
+
+// ---- points ---------------------------------------------------------------------------------
+
+TEST(ProgrammablePoints, SquareOfPointSizeWithPointCoordinates) {
+    Fixture fx;
+    const int W = 16, H = 16;
+    auto rt = fx.target(W, H, TexelFormat::RGBA32F);
+    ProgrammableDevice dev(g80());
+    ColorTarget ct{rt};
+    dev.setRenderTargets({&ct, 1});
+    dev.clearColor(0, glm::vec4(-1));
+    ProgramState st;
+    st.pointSize = 4.0f;
+    st.blend[0] = TargetBlend{1, BlendFactor::One, BlendFactor::One, BlendOp::Add, kWriteRGBA};
+    dev.setState(st);
+    // Centre on the pixel corner (8, 8): covers pixels 6..9 in x and y.
+    ScreenVertex p{glm::vec4(0.0f, 0.0f, 0.5f, 1.0f), glm::vec4(0)};
+    dev.draw(PassVP{}, Splat{}, ProgramPrimitive::PointList, std::span<const ScreenVertex>(&p, 1));
+    int covered = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const glm::vec4 v = rt->renderDataF(0, 0)[y * W + x];
+            const bool in = x >= 6 && x <= 9 && y >= 6 && y <= 9;
+            EXPECT_EQ(v.z, in ? 0.0f : -1.0f) << x << "," << y;  // −1 + 1 inside
+            if (in) {
+                ++covered;
+                EXPECT_NEAR(v.x, -1.0f + (x - 6 + 0.5f) / 4.0f, 1e-5f);
+                EXPECT_NEAR(v.y, -1.0f + (y - 6 + 0.5f) / 4.0f, 1e-5f);
+            }
+        }
+    EXPECT_EQ(covered, 16);
+}
+
+// ---- the binary search of Davis & Wyman (tir) -------------------------------------------------
+
+struct BinarySearchFP {
+    static constexpr int kVaryings = 1;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 1;
+    static constexpr bool kWritesDepth = false;
+    int steps = 8;
+    void operator()(FragmentContext& f) const {
+        const glm::vec4 uv = f.varying(0);
+        const glm::vec3 a(uv.x, uv.y, 0.0f), b(uv.x + 0.125f, uv.y + 0.0625f, 1.0f);
+        float lo = 0.0f, hi = 1.0f, d = 0.0f;
+        for (int i = 0; i < steps; ++i) {
+            const float mid = 0.5f * (lo + hi);
+            const glm::vec3 p = a + (b - a) * mid;
+            d = f.sampleLevel(0, glm::vec4(p.x, p.y, 0, 0), 0.0f).x;
+            if (p.z > d) hi = mid; else lo = mid;
+        }
+        f.output(0, glm::vec4(0.5f * (lo + hi), d, 0.0f, 1.0f));
+    }
+};
+
+TEST(ProgrammableSearch, BinarySearchMatchesAScalarOracle) {
+    Fixture fx;
+    const int N = 64;
+    TextureDesc dd;
+    dd.format = TexelFormat::R32F;
+    dd.width = dd.height = N;
+    auto heights = fx.memory->create(dd);
+    std::vector<uint8_t> bytes(size_t(N) * N * 4);
+    std::vector<float> h(size_t(N) * N);
+    for (int j = 0; j < N; ++j)
+        for (int i = 0; i < N; ++i) {
+            h[size_t(j * N + i)] = float(0.5 + 0.25 * std::sin(0.2 * i) * std::cos(0.3 * j));
+            std::memcpy(&bytes[size_t(j * N + i) * 4], &h[size_t(j * N + i)], 4);
+        }
+    fx.memory->upload(*heights, 0, 0, bytes);
+    auto rt = fx.target(N, N, TexelFormat::RGBA32F);
+    ProgrammableDevice dev(g80());
+    ColorTarget ct{rt};
+    dev.setRenderTargets({&ct, 1});
+    tex::SamplerState s;
+    s.magFilter = s.minFilter = tex::FilterMode::Nearest;
+    dev.setTexture(0, heights, s);
+    auto verts = rect(N, N, 0, 0, N, N, 0.5f, {0, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}, {1, 1, 0, 1});
+    dev.draw(PassVP{}, BinarySearchFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
+    int mismatches = 0;
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+            // The oracle with the exact texel centres as its coordinates.
+            const float u = (x + 0.5f) / N, v = (y + 0.5f) / N;
+            float lo = 0, hi = 1, d = 0;
+            for (int i = 0; i < 8; ++i) {
+                const float mid = 0.5f * (lo + hi);
+                const float px = u + 0.125f * mid, py = v + 0.0625f * mid;
+                const int ix = int(std::floor(px * N)) & (N - 1), iy = int(std::floor(py * N)) & (N - 1);
+                d = h[size_t(iy * N + ix)];
+                if (mid > d) hi = mid; else lo = mid;
+            }
+            const glm::vec4 got = rt->renderDataF(0, 0)[y * N + x];
+            if (got.x != 0.5f * (lo + hi) || got.y != d) ++mismatches;
+        }
+    // The interpolated uv may differ from (x + ½)/N by an ulp, which moves a sample across a
+    // texel edge only where p lands on one: allow a handful of such pixels.
+    EXPECT_LE(mismatches, N * N / 100) << mismatches << " of " << N * N;
+    EXPECT_EQ(dev.counters().textureFetches, uint64_t(8 * N * N));
+}
+
+// ---- reference and fast paths, thread counts -------------------------------------------------
+
+struct RandomVertex {
+    glm::vec4 position;
+    glm::vec4 a, b;
+};
+struct RandomVP {
+    static constexpr int kVaryings = 2;
+    glm::vec4 operator()(const RandomVertex& v, Varyings& out) const {
+        out[0] = v.a;
+        out[1] = v.b;
+        return v.position;
+    }
+};
+// Samples a float cube map and a mipmapped RGBA8 2D texture (implicit and explicit LOD),
+// discards some fragments, writes depth for some, blends into two targets.
+struct RandomFP {
+    static constexpr int kVaryings = 2;
+    static constexpr uint32_t kTargets = 3;
+    static constexpr uint32_t kUnits = 3;
+    static constexpr bool kWritesDepth = true;
+    void operator()(FragmentContext& f) const {
+        const glm::vec4 a = f.varying(0), b = f.varying(1);
+        if (a.w > 0.8f) {
+            f.discard();
+            return;
+        }
+        const glm::vec4 t0 = f.sample(0, 0);
+        const glm::vec4 t1 = f.sample(1, 1);
+        const glm::vec4 t2 = f.sampleGrad(1, b * 2.0f, f.ddx(1) * 2.0f, f.ddy(1) * 2.0f);
+        const glm::vec4 t3 = f.sampleLevel(0, a + b, b.z * 4.0f);
+        f.output(0, t0 * t1 + t3);
+        f.output(1, t2 - a);
+        if (b.w > 0.5f) f.depth(b.w - 0.5f);
+        else f.depth(f.fragCoord().z);
+    }
+};
+
+std::string hashTargets(const std::vector<std::shared_ptr<tex::Texture>>& ts, int w, int h) {
+    std::vector<uint8_t> bytes;
+    for (const auto& t : ts) {
+        const uint8_t* p = t->isFloat() ? reinterpret_cast<const uint8_t*>(t->renderDataF(0, 0))
+                                        : reinterpret_cast<const uint8_t*>(t->renderData8(0, 0));
+        const size_t n = size_t(w) * size_t(h) * (t->isFloat() ? sizeof(glm::vec4) : 4);
+        bytes.insert(bytes.end(), p, p + n);
+    }
+    return sha256Hex(bytes.data(), bytes.size());
+}
+
+TEST(ProgrammablePathsAgree, RandomDrawsGiveTheSameBytesOnBothPathsAndAnyThreadCount) {
+    const int W = 150, H = 110;
+    std::mt19937 rng(2024);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Fixture fx;
+    // Textures: a 32² RGBA32F cube map (LINEAR) and a 64² RGBA8 2D texture with mips.
+    TextureDesc cd;
+    cd.target = TextureTarget::CubeMap;
+    cd.format = TexelFormat::RGBA32F;
+    cd.width = cd.height = 32;
+    auto cube = fx.memory->create(cd);
+    for (int face = 0; face < 6; ++face) {
+        std::vector<uint8_t> b(32 * 32 * 16);
+        for (size_t i = 0; i < b.size() / 4; ++i) {
+            const float v = u(rng) * 4.0f - 1.0f;
+            std::memcpy(&b[i * 4], &v, 4);
+        }
+        fx.memory->upload(*cube, 0, face, b);
+    }
+    TextureDesc td;
+    td.format = TexelFormat::RGBA8;
+    td.width = td.height = 64;
+    td.levels = 7;
+    auto tex2d = fx.memory->create(td);
+    for (int l = 0; l < 7; ++l) {
+        const int n = 64 >> l;
+        std::vector<uint8_t> b(size_t(n) * n * 4);
+        for (auto& x : b) x = uint8_t(rng());
+        fx.memory->upload(*tex2d, l, 0, b);
+    }
+    tex::SamplerState s0;  // cube: LINEAR, no mips
+    tex::SamplerState s1;
+    s1.mipFilter = tex::MipMode::Linear;
+    s1.address = {tex::AddressMode::Mirror, tex::AddressMode::Border, tex::AddressMode::Wrap,
+                  tex::AddressMode::Wrap};
+    s1.borderColor = Rgba8{10, 200, 30, 255};
+
+    for (int scene = 0; scene < 12; ++scene) {
+        std::vector<RandomVertex> verts;
+        const int tris = 6 + int(rng() % 40);
+        for (int i = 0; i < 3 * tris; ++i) {
+            RandomVertex v;
+            const float w = 0.3f + 2.0f * u(rng);
+            v.position = glm::vec4((u(rng) * 2.6f - 1.3f) * w, (u(rng) * 2.6f - 1.3f) * w,
+                                   (u(rng) * 1.2f - 0.1f) * w, w);
+            if (rng() % 23 == 0) v.position.x = std::nanf("");
+            v.a = glm::vec4(u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng));
+            v.b = glm::vec4(u(rng) * 3 - 1, u(rng) * 3 - 1, u(rng), u(rng));
+            verts.push_back(v);
+        }
+        ProgramState st;
+        st.cull = CullMode(rng() % 3);
+        st.depthTest = uint8_t(rng() & 1);
+        st.depthWrite = 1;
+        st.depthFunc = CompareFunc(rng() % 8);
+        st.blend[0] = TargetBlend{uint8_t(rng() & 1), BlendFactor(rng() % 13), BlendFactor(rng() % 13),
+                                  BlendOp(rng() % 5), uint8_t(rng() % 16)};
+        st.blend[1] = TargetBlend{uint8_t(rng() & 1), BlendFactor(rng() % 13), BlendFactor(rng() % 13),
+                                  BlendOp(rng() % 5), kWriteRGBA};
+        const TexelFormat f0 = (scene & 1) ? TexelFormat::RGBA8 : TexelFormat::RGBA16F;
+        std::string expect;
+        for (int run = 0; run < 5; ++run) {
+            const Path path = run == 0 ? Path::Reference : Path::Fast;
+            const int threads = run == 0 ? 1 : std::array<int, 4>{1, 2, 3, 8}[size_t(run - 1)];
+            auto t0 = fx.target(W, H, f0);
+            auto t1 = fx.target(W, H, TexelFormat::RGBA32F);
+            TextureDesc dd;
+            dd.format = (scene & 2) ? TexelFormat::Depth24 : TexelFormat::Depth32F;
+            dd.width = W;
+            dd.height = H;
+            auto depth = fx.memory->createRenderTarget(dd);
+            ProgrammableDevice dev(g80(), DeviceOptions{path, threads});
+            ColorTarget cts[2] = {{t0}, {t1}};
+            dev.setRenderTargets(cts, DepthTarget{depth});
+            dev.setState(st);
+            dev.clearColor(0, glm::vec4(0.25f, 0.5f, 0.75f, 0.5f));
+            dev.clearColor(1, glm::vec4(0.0f));
+            dev.clearDepth(0.75f);
+            dev.setTexture(0, cube, s0);
+            dev.setTexture(1, tex2d, s1);
+            dev.draw(RandomVP{}, RandomFP{}, ProgramPrimitive::TriangleList, std::span<const RandomVertex>(verts));
+            const std::string hash = hashTargets({t0, t1, depth}, W, H);
+            if (run == 0) {
+                expect = hash;
+                EXPECT_GT(dev.counters().fragmentInvocations, 0u);
+            } else {
+                ASSERT_EQ(hash, expect) << "scene " << scene << " fast path, " << threads << " threads";
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace rg::raster
