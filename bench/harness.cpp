@@ -16,6 +16,11 @@ namespace {
 
 int gAllThreads = 0;
 
+struct OursOnly {
+    std::string workload, why;
+};
+std::vector<OursOnly> gOursOnly;
+
 const char* const kPeers[] = {"llvmpipe", "embree"};
 
 // Replaces the second '/'-separated field of `name` by `impl`; empty when there is none.
@@ -56,10 +61,21 @@ int allThreads() {
     return n == 0 ? 1 : int(n);
 }
 
+void noteOursOnly(const std::string& workload, const std::string& why) {
+    gOursOnly.push_back({workload, why});
+}
+
 int run(const Options& options, const char* argv0) {
     if (options.threads > 0) gAllThreads = options.threads;
+    std::string filter = options.filter;
+    if (!options.trace.empty()) {
+        registerTraceBenchmarks(options.trace, options.referencePath);
+        // The built-in workloads are registered too (at start-up); --trace runs only the
+        // trace's unless a filter says otherwise.
+        if (filter.empty()) filter = "^trace:";
+    }
     std::vector<std::string> args = {argv0};
-    if (!options.filter.empty()) args.push_back("--benchmark_filter=" + options.filter);
+    if (!filter.empty()) args.push_back("--benchmark_filter=" + filter);
     if (options.minTime > 0)
         args.push_back("--benchmark_min_time=" + std::to_string(options.minTime));
     std::vector<char*> argv;
@@ -71,7 +87,7 @@ int run(const Options& options, const char* argv0) {
     size_t count = benchmark::RunSpecifiedBenchmarks(&reporter);
     if (count == 0) {
         std::fprintf(stderr, "retroglass bench: no benchmark matches the filter '%s'\n",
-                     options.filter.c_str());
+                     filter.c_str());
         return 1;
     }
 
@@ -94,10 +110,16 @@ int run(const Options& options, const char* argv0) {
                               {"ratio", ratio}});
         }
     }
+    nlohmann::json oursOnly = nlohmann::json::array();
+    for (const OursOnly& o : gOursOnly) {
+        std::printf("%-60s ours only: %s\n", o.workload.c_str(), o.why.c_str());
+        oursOnly.push_back({{"workload", o.workload}, {"why", o.why}});
+    }
     if (!options.jsonPath.empty()) {
         nlohmann::json out;
         out["throughput_items_per_second"] = reporter.throughput;
         out["ratios"] = ratios;
+        out["ours_only"] = oursOnly;
         std::ofstream f(options.jsonPath);
         if (!f) {
             std::fprintf(stderr, "retroglass bench: cannot write %s\n", options.jsonPath.c_str());

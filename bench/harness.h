@@ -18,11 +18,22 @@ struct Options {
     std::string jsonPath;  // Google Benchmark's JSON output plus our "ratios" (empty: none)
     double minTime = 0.0;  // seconds per benchmark (0: Google Benchmark's default)
     int threads = 0;       // "all threads" for the benchmarks (0: all cores)
+    std::string trace;     // a captured trace: time its replay on ours and on Mesa instead
+    bool referencePath = false;  // ours on the reference path (the trace benchmark only)
 };
 
 // The thread counts benchmarks run at: 1 and `all` (deduplicated).
 int allThreads();
 
 int run(const Options& options, const char* argv0);
+
+// `retroglass bench --trace FILE` (bench_trace.cpp): registers the replay of FILE on ours
+// and on llvmpipe, named trace:<file stem>/<implementation>/threads:N, one item per replay.
+// Throws rg::Error when the file is not a readable trace.
+void registerTraceBenchmarks(const std::string& file, bool referencePath);
+
+// A workload only ours can run (e.g. a trace using what Mesa lacks): printed under the
+// ratio table and kept in the JSON output instead of a ratio.
+void noteOursOnly(const std::string& workload, const std::string& why);
 
 }  // namespace rg::bench

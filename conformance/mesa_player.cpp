@@ -180,6 +180,7 @@ void combineChannel(tex::TextureOp op, uint8_t a1, uint8_t a2, uint8_t a0, int s
 
 // ---- the player (runs in the child) ------------------------------------------------
 struct GlPlayer {
+    explicit GlPlayer(const Trace& t) : trace(t), w(t.width), h(t.height) {}
     const Trace& trace;
     int w, h;
     PipelineState state;
@@ -192,6 +193,7 @@ struct GlPlayer {
     std::array<tex::TexGenState, tex::kMaxTexCoordSets> texGens{};
     Rgba8 tfactor{255, 255, 255, 255};
     std::map<uint64_t, GLuint> names;
+    std::vector<uint8_t> readBack;
     int units = 1;
 
     GLuint textureName(uint64_t id) {
@@ -493,16 +495,44 @@ struct GlPlayer {
                     glWindowPos2i(c.dstX, h - c.dstY - c.rect.height);
                     glCopyPixels(c.rect.x, h - c.rect.y - c.rect.height, c.rect.width, c.rect.height, GL_COLOR);
                     break;
+                case TraceOp::ReadPixels: {
+                    // Not compared (the capture's hash is of our pixels), but read all the
+                    // same: a read-back drains the pipeline, which `bench --trace` must
+                    // charge to Mesa as the replay on ours is charged for it.
+                    readBack.resize(size_t(c.rect.width) * size_t(c.rect.height) * 4);
+                    glReadPixels(c.rect.x, h - c.rect.y - c.rect.height, c.rect.width, c.rect.height, GL_RGBA,
+                                 GL_UNSIGNED_BYTE, readBack.data());
+                    break;
+                }
                 default: break;
             }
         }
         glFinish();
     }
+
+    // Deletes the textures play() made, so that the next play uploads them again.
+    void release() {
+        for (const auto& [id, name] : names) glDeleteTextures(1, &name);
+        names.clear();
+    }
 };
 
-
-
 }  // namespace
+
+void playOnCurrentContext(const Trace& trace) {
+    // Row 0 of the buffer is the top row, as ours; the initial contents go straight into
+    // OSMesa's colour buffer, as the replay on ours copies them into its framebuffer.
+    OSMesaPixelStore(OSMESA_Y_UP, 0);
+    GLint bw = 0, bh = 0, format = 0;
+    void* buffer = nullptr;
+    if (!trace.initialColor.empty() &&
+        OSMesaGetColorBuffer(OSMesaGetCurrentContext(), &bw, &bh, &format, &buffer) && buffer &&
+        bw == trace.width && bh == trace.height)
+        std::memcpy(buffer, trace.initialColor.data(), size_t(bw) * size_t(bh) * 4);
+    GlPlayer p(trace);
+    p.play();
+    p.release();
+}
 
 std::string mesaUnsupported(const Trace& trace) {
     for (const auto& [id, t] : trace.textures) {
@@ -561,10 +591,7 @@ MesaReplay replayOnMesa(const Trace& trace) {
         std::vector<uint8_t> buffer(n);
         int status = 1;
         if (ctx && OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, trace.width, trace.height)) {
-            OSMesaPixelStore(OSMESA_Y_UP, 0);  // row 0 is the top row, as ours
-            if (!trace.initialColor.empty()) std::memcpy(buffer.data(), trace.initialColor.data(), n);
-            GlPlayer p{trace, trace.width, trace.height, {}, {}, {}};
-            p.play();
+            playOnCurrentContext(trace);
             const GLubyte* r = glGetString(GL_RENDERER);
             std::string renderer = r ? reinterpret_cast<const char*>(r) : "unknown";
             uint32_t len = uint32_t(renderer.size());

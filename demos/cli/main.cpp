@@ -206,6 +206,9 @@ int main(int argc, char** argv) {
     bench->add_option("--filter", benchOptions.filter, "regular expression over benchmark names");
     bench->add_option("--json", benchOptions.jsonPath, "write throughputs and ratios as JSON");
     bench->add_option("--min-time", benchOptions.minTime, "seconds per benchmark");
+    bench->add_option("--trace", benchOptions.trace,
+                      "time the replay of a captured trace on ours and on Mesa llvmpipe "
+                      "(ours only where Mesa lacks a feature) instead of the built-in workloads");
 #endif
 
     CLI11_PARSE(app, argc, argv);
@@ -225,6 +228,7 @@ int main(int argc, char** argv) {
 #ifdef RETROGLASS_HAVE_BENCH
         if (*bench) {
             benchOptions.threads = g.threads;
+            benchOptions.referencePath = g.path == "reference";
             return rg::bench::run(benchOptions, argv[0]);
         }
 #endif

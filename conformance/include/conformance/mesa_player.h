@@ -27,6 +27,13 @@ struct MesaReplay {
 // context, plays, sends the pixels back and exits.
 MesaReplay replayOnMesa(const raster::Trace& trace);
 
+// Plays the whole trace on the OSMesa context current in this process (RGBA, the trace's
+// size): initial contents, texture uploads (deleted again at the end), every command, a
+// final glFinish. replayOnMesa's child calls it once; `retroglass bench --trace`
+// (bench/bench_trace.cpp) calls it once per timed frame in bench/mesa_peer's child, so that
+// one call is one replay, as replayTrace is on ours. The caller checks mesaUnsupported().
+void playOnCurrentContext(const raster::Trace& trace);
+
 // `retroglass conform`: every golden trace on ours and on Mesa; prints a table and
 // returns non-zero when a trace exceeds its tolerance.
 int runConform(const std::string& goldenDir);
