@@ -1,8 +1,8 @@
 // `binary_search/llvmpipe/threads:N`: the llvmpipe side of the binary_search workload
 // (bench/binary_search_workload.h, issue 4 item 6), one frame per iteration in a
 // bench/mesa_peer.h child with N llvmpipe threads, items = fragments. The retroglass side
-// registers `binary_search/retroglass/threads:N` with UseManualTime() so the harness pairs
-// the two (bench/harness.h).
+// registers `binary_search/retroglass/threads:N` with UseManualTime() so the harness
+// pairs the two (bench/harness.h).
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 

@@ -152,12 +152,18 @@ MesaImage renderMesa(int threads) {
         std::vector<uint8_t> buffer(bytes);
         OSMesaContext ctx = nullptr;
         try {
-            const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0,
-                                   OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0};
+            const int attribs[] = {OSMESA_FORMAT,
+                                   OSMESA_RGBA,
+                                   OSMESA_DEPTH_BITS,
+                                   0,
+                                   OSMESA_PROFILE,
+                                   OSMESA_COMPAT_PROFILE,
+                                   0};
             ctx = OSMesaCreateContextAttribs(attribs, nullptr);
-            if (!ctx || !OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, kWidth, kHeight))
+            if (!ctx ||
+                !OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, kWidth, kHeight))
                 throw Error("binary_search: cannot create an OSMesa context");
-            // Buffer row 0 is GL's window row 0, where v = ½/512: the workload's row order.
+            // Buffer row 0 is GL's window row 0, where v = ½/512: the workload's rows.
             OSMesaPixelStore(OSMESA_Y_UP, 1);
             const GLubyte* r = glGetString(GL_RENDERER);
             renderer = r ? reinterpret_cast<const char*>(r) : "unknown";
@@ -165,14 +171,16 @@ MesaImage renderMesa(int threads) {
             drawFrameGl();
             glFinish();
             if (GLenum e = glGetError(); e != GL_NO_ERROR)
-                throw Error("binary_search: GL error " + std::to_string(e) + " in the draw");
+                throw Error("binary_search: GL error " + std::to_string(e) +
+                            " in the draw");
         } catch (const std::exception& e) {
             error = e.what();
         }
         bool ok = true;
         for (const std::string* s : {&renderer, &error}) {
             const uint32_t len = uint32_t(s->size());
-            ok = ok && io::writeAll(fds[1], &len, sizeof len) && io::writeAll(fds[1], s->data(), len);
+            ok = ok && io::writeAll(fds[1], &len, sizeof len) &&
+                 io::writeAll(fds[1], s->data(), len);
         }
         if (ok && error.empty()) ok = io::writeAll(fds[1], buffer.data(), bytes);
         if (ctx) OSMesaDestroyContext(ctx);
@@ -199,7 +207,8 @@ MesaImage renderMesa(int threads) {
     ::waitpid(pid, &status, 0);
     if (!error.empty()) throw Error(error);
     if (!ok)
-        throw Error("binary_search: the OSMesa child died (wait status " + std::to_string(status) + ")");
+        throw Error("binary_search: the OSMesa child died (wait status " +
+                    std::to_string(status) + ")");
     return out;
 }
 

@@ -1,7 +1,8 @@
-// The `binary_search` workload (issue 4, item 6): a per-pixel 8-step binary search along a
-// ray through a depth texture — the inner loop of relief mapping and of the image-space
-// refraction papers' intersection step — run as a geforce8800 fragment program on our side
-// and as a GLSL shader on Mesa llvmpipe on the other, fragments/s compared in one run.
+// The `binary_search` workload (issue 4, item 6): a per-pixel 8-step binary search along
+// a ray through a depth texture — the inner loop of relief mapping and of the image-space
+// refraction papers' intersection step — run as a geforce8800 fragment program on our
+// side and as a GLSL shader on Mesa llvmpipe on the other, fragments/s compared in one
+// run.
 //
 // This header is the one definition both sides implement, plus its plain scalar reference
 // (no GL, no retroglass types, so any module or test can include it).
@@ -17,8 +18,8 @@
 //                  the order of D's rows; images here list rows in that order.
 // Per fragment     A = (u, v, 0), B = (u + 1/8, v + 1/16, 1); lo = 0, hi = 1; 8 times:
 //                      mid = ½(lo + hi);  p = A + (B − A)·mid;
-//                      d = D at p.xy, NEAREST, REPEAT, level 0 (texel floor(p·512) mod 512;
-//                          GLSL textureLod(tex, p.xy, 0.0).r);
+//                      d = D at p.xy, NEAREST, REPEAT, level 0 (texel
+//                          floor(p·512) mod 512; GLSL textureLod(tex, p.xy, 0.0).r);
 //                      if p.z > d then hi = mid else lo = mid
 //                  colour = (½(lo + hi), d of the last step, 0, 1), stored as
 //                  round(clamp(c, 0, 1)·255) per channel.
@@ -26,18 +27,23 @@
 //
 // Why the arithmetic is exact (so both sides must agree bit for bit on the search): u, v
 // have at most 10 significant bits, B − A is (1/8, 1/16, 1) and mid = k/2ⁿ (n ≤ 8), so p
-// and p·512 are exact in binary32 whatever the evaluation order or FMA contraction. Step 7
-// lands on an exact texel boundary in x and step 6 in y (64·mid and 32·mid are odd
-// halves there): an implementation whose u, v or p is one ulp low picks the texel to the
-// left or above. Only the final float → 8-bit conversion of the d channel is left to the
-// implementation's rounding (ties, or llvmpipe's scaled conversion: ±1).
+// and p·512 are exact in binary32 whatever the evaluation order or FMA contraction. Step
+// 7 lands on an exact texel boundary in x and step 6 in y (64·mid and 32·mid are odd
+// halves there): an implementation whose u, v or p is one ulp low picks the texel before
+// it in x or y, and the search goes elsewhere — shifting uv by 1e-7 relative in the GLSL
+// shader changes 109,253 of the 262,144 pixels (by up to 86), and rows in the opposite
+// order differ at 244,036. Compute uv as exactly (x + ½)/512. Only the final float →
+// 8-bit conversion is left to the implementation: round() takes halves away from zero,
+// llvmpipe to even, which differs at the one pixel whose d·255 is a binary32 tie
+// ((389, 420): d·255 = 156.5, llvmpipe 156, reference 157).
 //
 // Benchmarks (bench/harness.h naming): `binary_search/<impl>/threads:N` for N in {1,
-// allThreads()}, both sides with UseManualTime() (wall-clock seconds per frame, which also
-// gives both the `/manual_time` suffix the harness pairs on) and
+// allThreads()}, both sides with UseManualTime() (wall-clock seconds per frame, which
+// also gives both the `/manual_time` suffix the harness pairs on) and
 // SetItemsProcessed(iterations · kFragmentsPerFrame). The llvmpipe side is
 // bench/bench_binary_search_mesa.cpp; its GL code and a one-frame readback are in
-// bench/binary_search_mesa.h. tests/peer/ checks llvmpipe's image against referenceImage().
+// bench/binary_search_mesa.h. tests/peer/ checks llvmpipe's image against
+// referenceImage().
 #pragma once
 
 #include <algorithm>
@@ -61,8 +67,8 @@ inline std::vector<float> depthImage() {
     std::vector<float> depth(size_t(kDepthSize) * kDepthSize);
     for (int j = 0; j < kDepthSize; ++j)
         for (int i = 0; i < kDepthSize; ++i)
-            // Double, then one rounding to float: the float is the same on any libm that
-            // is within an ulp of sin and cos (a double ulp moves 0.5 + 0.25·s·c by 2⁻⁵⁴).
+            // Double, then one rounding to float: the float is the same on any libm
+            // within an ulp of sin and cos (a double ulp moves 0.5 + 0.25·s·c by 2⁻⁵⁴).
             depth[size_t(j) * kDepthSize + size_t(i)] =
                 float(0.5 + 0.25 * std::sin(0.05 * i) * std::cos(0.07 * j));
     return depth;
@@ -90,7 +96,8 @@ inline Hit shadeFragment(const float* depth, float u, float v) {
         const float mid = 0.5f * (lo + hi);
         float p[3];
         for (int c = 0; c < 3; ++c) p[c] = a[c] + (b[c] - a[c]) * mid;
-        const int i = nearestRepeat(p[0], kDepthSize), j = nearestRepeat(p[1], kDepthSize);
+        const int i = nearestRepeat(p[0], kDepthSize),
+                  j = nearestRepeat(p[1], kDepthSize);
         d = depth[size_t(j) * kDepthSize + size_t(i)];
         if (p[2] > d)
             hi = mid;
@@ -120,7 +127,8 @@ inline std::vector<uint8_t> referenceImage(const std::vector<float>& depth) {
         for (int x = 0; x < kWidth; ++x) {
             const auto px = toRgba8(shadeFragment(depth.data(), pixelCentre(x, kWidth),
                                                   pixelCentre(y, kHeight)));
-            std::copy(px.begin(), px.end(), rgba.begin() + (ptrdiff_t(y) * kWidth + x) * 4);
+            std::copy(px.begin(), px.end(),
+                      rgba.begin() + (ptrdiff_t(y) * kWidth + x) * 4);
         }
     return rgba;
 }

@@ -16,7 +16,7 @@
 namespace rg::bench::binary_search {
 namespace {
 
-// ---- the reference ---------------------------------------------------------------------
+// ---- the reference -----------------------------------------------------------------
 
 // D[j][i] = float(0.5 + 0.25·sin(0.05·i)·cos(0.07·j)); the expected floats were computed
 // apart (Python, double then struct-packed to binary32). (10, 20) against (20, 10)
@@ -25,7 +25,8 @@ TEST(BinarySearchReference, DepthImageFormula) {
     const std::vector<float> d = depthImage();
     ASSERT_EQ(d.size(), size_t(kDepthSize) * kDepthSize);
     auto at = [&](int i, int j) { return d[size_t(j) * kDepthSize + size_t(i)]; };
-    for (int j = 0; j < kDepthSize; ++j) EXPECT_EQ(at(0, j), 0.5f) << "sin(0) = 0, row " << j;
+    for (int j = 0; j < kDepthSize; ++j)
+        EXPECT_EQ(at(0, j), 0.5f) << "sin(0) = 0, row " << j;
     EXPECT_EQ(at(31, 0), 0x1.7ff8eap-1f);
     EXPECT_EQ(at(10, 20), 0x1.0a6e28p-1f);
     EXPECT_EQ(at(100, 300), 0x1.433ac4p-1f);
@@ -54,7 +55,8 @@ TEST(BinarySearchReference, FlatDepthConverges) {
     for (float c : {0.3f, 0.5f, 0.7f, 0.01f}) {
         const std::vector<float> flat(size_t(kDepthSize) * kDepthSize, c);
         const float expected = (std::floor(c * 256.0f) + 0.5f) / 256.0f;
-        for (float u : {pixelCentre(0, kWidth), pixelCentre(300, kWidth), pixelCentre(511, kWidth)}) {
+        for (float u : {pixelCentre(0, kWidth), pixelCentre(300, kWidth),
+                        pixelCentre(511, kWidth)}) {
             const Hit h = shadeFragment(flat.data(), u, pixelCentre(7, kHeight));
             EXPECT_EQ(h.t, expected) << "c = " << c << ", u = " << u;
             EXPECT_EQ(h.d, c);
@@ -62,7 +64,8 @@ TEST(BinarySearchReference, FlatDepthConverges) {
     }
     const std::vector<float> half(size_t(kDepthSize) * kDepthSize, 0.5f);
     EXPECT_EQ(shadeFragment(half.data(), 0.5f, 0.5f).t, 0.5f + 0.5f / 256.0f);
-    EXPECT_EQ(toRgba8(Hit{0.5f + 0.5f / 256.0f, 0.5f}), (std::array<uint8_t, 4>{128, 128, 0, 255}));
+    EXPECT_EQ(toRgba8(Hit{0.5f + 0.5f / 256.0f, 0.5f}),
+              (std::array<uint8_t, 4>{128, 128, 0, 255}));
 }
 
 // The texel the last step reads: with D[j][i] = 1 + i (above every p.z) the last d names
@@ -72,22 +75,25 @@ TEST(BinarySearchReference, LastStepTexel) {
     std::vector<float> columns(size_t(kDepthSize) * kDepthSize);
     for (int j = 0; j < kDepthSize; ++j)
         for (int i = 0; i < kDepthSize; ++i)
-            columns[size_t(j) * kDepthSize + size_t(i)] = 1.0f + float(i);  // always above p.z
-    const Hit h = shadeFragment(columns.data(), pixelCentre(0, kWidth), pixelCentre(0, kHeight));
+            columns[size_t(j) * kDepthSize + size_t(i)] = 1.0f + float(i);  // above p.z
+    const Hit h =
+        shadeFragment(columns.data(), pixelCentre(0, kWidth), pixelCentre(0, kHeight));
     EXPECT_EQ(h.t, 1.0f - 0.5f / 256.0f);
     EXPECT_EQ(h.d, 1.0f + 64.0f);
 }
 
-// ---- llvmpipe against the reference ----------------------------------------------------
+// ---- llvmpipe against the reference ------------------------------------------------
 
-const char* const kRepro = "reproduce: build/bin/test_peer --gtest_filter='BinarySearchMesa.*'";
+const char* const kRepro =
+    "reproduce: build/bin/test_peer --gtest_filter='BinarySearchMesa.*'";
 
-// Exact agreement, except where the reference's d·255 is a binary32 tie (x.5): the workload
-// rounds halves away from zero (round()), llvmpipe's float → unorm8 conversion to even.
-// The search itself is exact arithmetic on both sides (bench/binary_search_workload.h):
-// every texel choice and comparison must agree, so red (½(lo + hi)) may never differ, and
-// green only by 1 at a tie. A texel picked one off at a boundary (steps 6 and 7 sit on
-// exact boundaries for every pixel) would change the search and show up here.
+// Exact agreement, except where the reference's d·255 is a binary32 tie (x.5): the
+// workload rounds halves away from zero (round()), llvmpipe's float → unorm8 conversion
+// to even. The search itself is exact arithmetic on both sides
+// (bench/binary_search_workload.h): every texel choice and comparison must agree, so red
+// (½(lo + hi)) may never differ, and green only by 1 at a tie. A texel picked one off at
+// a boundary (steps 6 and 7 sit on exact boundaries for every pixel) would change the
+// search and show up here.
 TEST(BinarySearchMesa, MatchesScalarReference) {
     const MesaImage mesa = renderMesa(1);
     ASSERT_NE(mesa.renderer.find("llvmpipe"), std::string::npos) << mesa.renderer;
@@ -100,12 +106,14 @@ TEST(BinarySearchMesa, MatchesScalarReference) {
             const size_t o = (size_t(y) * kWidth + size_t(x)) * 4;
             int diff[4];
             for (int k = 0; k < 4; ++k) {
-                diff[k] = std::abs(int(mesa.rgba[o + size_t(k)]) - int(want[o + size_t(k)]));
+                diff[k] =
+                    std::abs(int(mesa.rgba[o + size_t(k)]) - int(want[o + size_t(k)]));
                 maxDiff = std::max(maxDiff, diff[k]);
             }
             if (!diff[0] && !diff[1] && !diff[2] && !diff[3]) continue;
             ++differing;
-            const Hit h = shadeFragment(depth.data(), pixelCentre(x, kWidth), pixelCentre(y, kHeight));
+            const Hit h = shadeFragment(depth.data(), pixelCentre(x, kWidth),
+                                        pixelCentre(y, kHeight));
             const float scaled = h.d * 255.0f;
             const bool tie = scaled - std::floor(scaled) == 0.5f;
             if (tie && diff[1] == 1 && !diff[0] && !diff[2] && !diff[3]) {
@@ -120,9 +128,10 @@ TEST(BinarySearchMesa, MatchesScalarReference) {
                               << " " << int(want[o + 2]) << " " << int(want[o + 3])
                               << " (t = " << h.t << ", d = " << h.d << "); " << kRepro;
         }
-    std::printf("binary_search on %s: %d of %d pixels differ from the reference (%d of them "
-                "a green rounding tie), largest channel difference %d\n",
-                mesa.renderer.c_str(), differing, kWidth * kHeight, ties, maxDiff);
+    std::printf(
+        "binary_search on %s: %d of %d pixels differ from the reference (%d of them "
+        "a green rounding tie), largest channel difference %d\n",
+        mesa.renderer.c_str(), differing, kWidth * kHeight, ties, maxDiff);
     EXPECT_EQ(unexplained, 0) << kRepro;
 }
 
