@@ -112,6 +112,48 @@ void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgb
     }
 }
 
+// Boxes inside one even-aligned 2×2 quad (triangles of a pixel or two, the common case of
+// dense meshes): the coverage of that one quad straight from the three edge functions,
+// then the quad kernel, without the per-row set-up of quadWalk. Pass-through only (the
+// texture stages keep their FragmentQuad scratch in quadWalk).
+template <bool kDepth, int kBlendMode>
+void singleQuad(const DrawContext& dc, const SetupTriangle& t, const Box& box, RasterCounters& rc) {
+    constexpr bool kBlend = kBlendMode != kBlendNone;
+    const int s = dc.subpixelBits;
+    const int qx = box.x0 & ~1, qy = box.y0 & ~1;
+    const int64_t half = int64_t{1} << (s - 1);
+    const int64_t X = (int64_t(qx) << s) + half, Y = (int64_t(qy) << s) + half;
+    // Pixel i at (qx + (i & 1), qy + (i >> 1)); inside ⇔ all three E ≥ 0 ⇔ the OR of the
+    // three has its sign bit clear.
+    int64_t any[4] = {0, 0, 0, 0};
+    for (int e = 0; e < 3; ++e) {
+        const int64_t e0 = t.C[e] + t.A[e] * X + t.B[e] * Y;
+        const int64_t sx = t.A[e] << s, sy = t.B[e] << s;
+        any[0] |= e0;
+        any[1] |= e0 + sx;
+        any[2] |= e0 + sy;
+        any[3] |= (e0 + sx) + sy;
+    }
+    unsigned coverage = unsigned(any[0] >= 0) | unsigned(any[1] >= 0) << 1 |
+                        unsigned(any[2] >= 0) << 2 | unsigned(any[3] >= 0) << 3;
+    coverage &= (qx >= box.x0 ? 0x5u : 0u) | (qx + 1 <= box.x1 ? 0xAu : 0u);
+    coverage &= (qy >= box.y0 ? 0x3u : 0u) | (qy + 1 <= box.y1 ? 0xCu : 0u);
+    if (!coverage) return;
+    if (qx + 1 < dc.fb->width() && qy + 1 < dc.fb->height()) {
+        sse::Planes planes;
+        sse::RowTerms row;
+        if (dc.gouraud) {
+            planes.load(t, dc.st.specularEnable ? 8 : 4);
+            row.load(planes, t, qy);
+        }
+        processQuadSse<kDepth, kBlendMode>(dc, t, planes, row, qx, qy, coverage, rc);
+        return;
+    }
+    processQuad<true, kDepth, kBlend, true>(dc, t, nullptr, qx, qy, coverage, rc, nullptr);
+}
+
+bool inOneQuad(const Box& b) { return b.x1 <= (b.x0 | 1) && b.y1 <= (b.y0 | 1); }
+
 // Narrow boxes (small triangles): the three edge functions stepped per pixel in int64,
 // cheaper than solving row spans with divisions. Wide boxes: exact row spans.
 constexpr int kSpanWalkMinWidth = 16;
@@ -220,6 +262,25 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
 
 using QuadWalkFn = void (*)(const DrawContext&, const SetupTriangle&, const Plane*, const Box&,
                             RasterCounters&);
+using SingleQuadFn = void (*)(const DrawContext&, const SetupTriangle&, const Box&,
+                              RasterCounters&);
+
+// The single-quad kernel for the state, or null when the quads need texture stages.
+SingleQuadFn selectSingleQuad(const DrawContext& dc) {
+    if (!dc.passThrough) return nullptr;
+    const PipelineState& st = dc.st;
+    auto pick = [&]<bool kDepth>() -> SingleQuadFn {
+        if (!st.blend) return singleQuad<kDepth, kBlendNone>;
+        if (st.blendOp == BlendOp::Add && st.srcBlend == BlendFactor::SrcAlpha &&
+            st.dstBlend == BlendFactor::InvSrcAlpha)
+            return singleQuad<kDepth, kBlendSrcAlphaInvSrcAlpha>;
+        if (st.blendOp == BlendOp::Add && st.srcBlend == BlendFactor::One &&
+            st.dstBlend == BlendFactor::One)
+            return singleQuad<kDepth, kBlendOneOne>;
+        return singleQuad<kDepth, kBlendGeneric>;
+    };
+    return dc.depthOn ? pick.template operator()<true>() : pick.template operator()<false>();
+}
 
 template <bool kDepth, bool kPassThrough>
 QuadWalkFn selectBlend(const DrawContext& dc) {
@@ -250,6 +311,7 @@ void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks,
     const Box tileBox{tx * kTileSize, ty * kTileSize, tx * kTileSize + kTileSize - 1,
                       ty * kTileSize + kTileSize - 1};
     const QuadWalkFn walk = selectQuadWalk(dc);
+    const SingleQuadFn single = selectSingleQuad(dc);
     const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
                               !dc.st.blend;
     for (const TriangleChunk& chunk : chunks) {
@@ -259,7 +321,9 @@ void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks,
                     std::min(t.maxX, tileBox.x1), std::min(t.maxY, tileBox.y1)};
             if (box.x0 > box.x1 || box.y0 > box.y1) continue;
             Rgba8 color;
-            if (spanFillable && constantColor(dc, t, color))
+            if (single && inOneQuad(box))
+                single(dc, t, box, rc);
+            else if (spanFillable && constantColor(dc, t, color))
                 spanFill(dc, t, box, color, rc);
             else
                 walk(dc, t, chunk.texPlanes.data(), box, rc);
@@ -278,12 +342,15 @@ namespace rg::raster::detail {
 // quads with the same coverage, and submission order is kept: the same bytes.
 void rasterizeChunk(const DrawContext& dc, const TriangleChunk& chunk, RasterCounters& rc) {
     const QuadWalkFn walk = selectQuadWalk(dc);
+    const SingleQuadFn single = selectSingleQuad(dc);
     const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
                               !dc.st.blend;
     for (const SetupTriangle& t : chunk.tris) {
         const Box box{t.minX, t.minY, t.maxX, t.maxY};
         Rgba8 color;
-        if (spanFillable && constantColor(dc, t, color))
+        if (single && inOneQuad(box))
+            single(dc, t, box, rc);
+        else if (spanFillable && constantColor(dc, t, color))
             spanFill(dc, t, box, color, rc);
         else
             walk(dc, t, chunk.texPlanes.data(), box, rc);

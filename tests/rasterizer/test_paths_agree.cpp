@@ -252,6 +252,86 @@ TEST(PathsAgree, TenThousandRandomDrawsGiveIdenticalBytesAndCounters) {
     std::printf("[ stats    ] %s", sum.toString().c_str());
 }
 
+// Dense meshes of triangles a pixel or two across, the case the fast path sends through
+// its single-quad kernel and its batched triangle setup: jittered grids at random
+// positions (some crossing the target's edges), random states, both vertex spaces, and
+// 1–3 threads. The random draws above rarely make triangles this small.
+TEST(PathsAgree, DenseMeshesOfTinyTrianglesGiveIdenticalBytesAndCounters) {
+    int draws = 0;
+    uint64_t drawn = 0;
+    for (uint64_t seed = 1; seed <= 60 && !HasFatalFailure(); ++seed) {
+        Rng r(7000 + seed);
+        const int w = r.i(9, 90), h = r.i(9, 70);
+        const DepthFormat fmt = DepthFormat(r.i(0, 2));
+        Device ref(profile(ProfileId::GeForce256), w, h, fmt, {Path::Reference, 1});
+        Device fast(profile(ProfileId::GeForce256), w, h, fmt, {Path::Fast, r.i(1, 3)});
+        const Rgba8 background{r.byte(), r.byte(), r.byte(), r.byte()};
+        for (Device* d : {&ref, &fast}) d->clear(true, background, true, 1.0f);
+        for (int k = 0; k < 20; ++k, ++draws) {
+            PipelineState s = randomState(r);
+            if (r.p(0.5)) s.cull = CullMode::None;
+            const VertexSpace space = r.p(0.5) ? VertexSpace::Pretransformed : VertexSpace::Untransformed;
+            // Cells of `cell` pixels, vertices jittered by up to `jitter` pixels.
+            const float cell = r.p(0.5) ? 2.0f : r.f(0.3f, 3.0f);
+            const float jitter = r.p(0.4) ? 0.0f : r.f(0.0f, 0.6f);
+            const float x0 = r.f(-4.0f, float(w) - 8.0f), y0 = r.f(-4.0f, float(h) - 8.0f);
+            const int gx = r.i(1, 24), gy = r.i(1, 24);
+            const bool flatW = r.p(0.5);
+            std::vector<Vertex> verts;
+            for (int j = 0; j <= gy; ++j)
+                for (int i = 0; i <= gx; ++i) {
+                    Vertex v;
+                    float x = x0 + cell * float(i) + (jitter > 0 ? r.f(-jitter, jitter) : 0.0f);
+                    float y = y0 + cell * float(j) + (jitter > 0 ? r.f(-jitter, jitter) : 0.0f);
+                    if (r.p(0.5)) x = std::round(x), y = std::round(y);  // on pixel corners
+                    const float z = r.f(0.0f, 1.0f), q = flatW ? 1.0f : r.f(0.2f, 3.0f);
+                    if (space == VertexSpace::Pretransformed) {
+                        v.position = {x, y, z, q};
+                    } else {  // object space through the orthographic window transform below
+                        v.position = {x, y, z, 1.0f};
+                    }
+                    v.diffuse = randomColor(r);
+                    v.specular = Rgba8{r.byte(), r.byte(), r.byte(), r.byte()};
+                    verts.push_back(v);
+                }
+            std::vector<uint32_t> indices;
+            for (int j = 0; j < gy; ++j)
+                for (int i = 0; i < gx; ++i) {
+                    const uint32_t a = uint32_t(j * (gx + 1) + i), b = a + 1,
+                                   c = a + uint32_t(gx) + 1, d = c + 1;
+                    if (r.p(0.5))
+                        indices.insert(indices.end(), {a, b, d, a, d, c});
+                    else
+                        indices.insert(indices.end(), {a, b, c, b, d, c});
+                }
+            const Rect scissor{r.i(0, w / 2), r.i(0, h / 2), w, h};
+            for (Device* d : {&ref, &fast}) {
+                d->setState(s);
+                d->setViewport(Viewport{0, 0, w, h, 0.0f, 1.0f});
+                d->setScissor(scissor);
+                d->setTransforms(glm::mat4(1.0f), glm::mat4(1.0f),
+                                 glm::orthoLH_ZO(0.0f, float(w), float(h), 0.0f, 0.0f, 1.0f));
+                d->draw(Primitive::TriangleList, space, verts, indices);
+            }
+            const std::string where = "seed " + std::to_string(seed) + " draw " + std::to_string(k);
+            ASSERT_TRUE(std::memcmp(ref.framebuffer().color().data(),
+                                    fast.framebuffer().color().data(),
+                                    ref.framebuffer().color().size_bytes()) == 0 &&
+                        std::equal(ref.framebuffer().depth().begin(),
+                                   ref.framebuffer().depth().end(),
+                                   fast.framebuffer().depth().begin()))
+                << "paths differ after " << where << ": "
+                << firstDifference(ref.framebuffer(), fast.framebuffer());
+            ASSERT_TRUE(sameCounters(ref.counters(), fast.counters()))
+                << "counters differ after " << where << "\nreference:\n"
+                << ref.counters().toString() << "fast:\n" << fast.counters().toString();
+        }
+        drawn += ref.counters().trianglesDrawn;
+    }
+    EXPECT_EQ(draws, 1200);
+    EXPECT_GT(drawn, 100000u);
+}
+
 // The same frame from the fast path on 1, 2, 3 and 8 threads and from the reference path:
 // one SHA-256, one set of counters.
 const char* const kPinnedHashes[3] = {
