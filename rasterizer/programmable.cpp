@@ -74,12 +74,9 @@ std::string ProgramCounters::toString() const {
 
 // ---- fragment context: texture instructions ---------------------------------------------
 
-const detail::BoundUnit& FragmentContext::unit(int u) const {
-    if (u < 0 || u >= kMaxProgramUnits || !((setup_->declaredUnits >> u) & 1u))
-        throw InvalidState("fragment program reads texture unit " + std::to_string(u) +
-                           ", which it does not declare in kUnits");
-    // Declared units are checked bound at draw time.
-    return (*setup_->units)[size_t(u)];
+void FragmentContext::undeclaredUnit(int u) const {
+    throw InvalidState("fragment program reads texture unit " + std::to_string(u) +
+                       ", which it does not declare in kUnits");
 }
 
 void FragmentContext::undeclaredTarget(int target) const {
@@ -112,8 +109,8 @@ glm::vec4 FragmentContext::sampleGrad(int u, const glm::vec4& c, const glm::vec4
     return tex::programFetch(*b.texture, b.sampler, c, lambda, setup_->path, fetches_);
 }
 
-glm::vec4 FragmentContext::sampleLevel(int u, const glm::vec4& c, float lod) {
-    const detail::BoundUnit& b = unit(u);
+glm::vec4 FragmentContext::sampleLevelFiltered(const detail::BoundUnit& b, const glm::vec4& c,
+                                               float lod) {
     const int32_t lambda = tex::programLambdaLod(b.sampler, lod);
     return tex::programFetch(*b.texture, b.sampler, c, lambda, setup_->path, fetches_);
 }
@@ -359,7 +356,22 @@ void ProgrammableDevice::setTexture(int unit, std::shared_ptr<const tex::Texture
                            " units of profile '" + std::string(impl_->profile.name) + "'");
     if (texture && !texture->complete())
         throw InvalidState("texture bound to unit " + std::to_string(unit) + " has levels never uploaded");
-    impl_->units[size_t(unit)] = detail::BoundUnit{texture.get(), sampler};
+    detail::BoundUnit b{texture.get(), sampler, {}};
+    using tex::AddressMode;
+    auto simple = [](AddressMode m) { return m == AddressMode::Wrap || m == AddressMode::ClampToEdge; };
+    if (texture && texture->isFloat() && texture->dims() <= 2 &&
+        texture->desc().target != tex::TextureTarget::CubeMap &&
+        sampler.magFilter == tex::FilterMode::Nearest && sampler.minFilter == tex::FilterMode::Nearest &&
+        sampler.mipFilter == tex::MipMode::None && simple(sampler.address[0]) &&
+        (texture->dims() == 1 || simple(sampler.address[1]))) {
+        const int base = std::clamp(sampler.baseLevel, 0, texture->levels() - 1);
+        b.nearest.data = texture->dataF(base, 0);
+        b.nearest.width = texture->levelSize(base)[0];
+        b.nearest.height = texture->levelSize(base)[1];
+        b.nearest.wrapS = sampler.address[0] == AddressMode::Wrap;
+        b.nearest.wrapT = sampler.address[1] == AddressMode::Wrap;
+    }
+    impl_->units[size_t(unit)] = b;
     impl_->textures[size_t(unit)] = std::move(texture);
 }
 

@@ -518,10 +518,16 @@ struct RandomVP {
 struct RandomFP {
     static constexpr int kVaryings = 2;
     static constexpr uint32_t kTargets = 3;
-    static constexpr uint32_t kUnits = 3;
+    static constexpr uint32_t kUnits = 7;
     static constexpr bool kWritesDepth = true;
     void operator()(FragmentContext& f) const {
         const glm::vec4 a = f.varying(0), b = f.varying(1);
+        // Unit 2: a point-sampled float texture (the fast path's inline fetch).
+        const glm::vec4 n = f.sampleLevel(2, a * 3.0f - b, 0.0f);
+        if (n.x > 0.9f) {
+            f.discard();
+            return;
+        }
         if (a.w > 0.8f) {
             f.discard();
             return;
@@ -531,7 +537,7 @@ struct RandomFP {
         const glm::vec4 t2 = f.sampleGrad(1, b * 2.0f, f.ddx(1) * 2.0f, f.ddy(1) * 2.0f);
         const glm::vec4 t3 = f.sampleLevel(0, a + b, b.z * 4.0f);
         f.output(0, t0 * t1 + t3);
-        f.output(1, t2 - a);
+        f.output(1, t2 - a + n);
         if (b.w > 0.5f) f.depth(b.w - 0.5f);
         else f.depth(f.fragCoord().z);
     }
@@ -578,6 +584,22 @@ TEST(ProgrammablePathsAgree, RandomDrawsGiveTheSameBytesOnBothPathsAndAnyThreadC
         for (auto& x : b) x = uint8_t(rng());
         fx.memory->upload(*tex2d, l, 0, b);
     }
+    TextureDesc nd;  // 24×16 R32F, point-sampled, WRAP in s and CLAMP_TO_EDGE in t
+    nd.format = TexelFormat::R32F;
+    nd.width = 24;
+    nd.height = 16;
+    auto nearestTex = fx.memory->create(nd);
+    {
+        std::vector<uint8_t> b(24 * 16 * 4);
+        for (size_t i = 0; i < b.size() / 4; ++i) {
+            const float v = (i % 7 == 0) ? -0.0f : u(rng);
+            std::memcpy(&b[i * 4], &v, 4);
+        }
+        fx.memory->upload(*nearestTex, 0, 0, b);
+    }
+    tex::SamplerState s2;
+    s2.magFilter = s2.minFilter = tex::FilterMode::Nearest;
+    s2.address[1] = tex::AddressMode::ClampToEdge;
     tex::SamplerState s0;  // cube: LINEAR, no mips
     tex::SamplerState s1;
     s1.mipFilter = tex::MipMode::Linear;
@@ -628,6 +650,7 @@ TEST(ProgrammablePathsAgree, RandomDrawsGiveTheSameBytesOnBothPathsAndAnyThreadC
             dev.clearDepth(0.75f);
             dev.setTexture(0, cube, s0);
             dev.setTexture(1, tex2d, s1);
+            dev.setTexture(2, nearestTex, s2);
             dev.draw(RandomVP{}, RandomFP{}, ProgramPrimitive::TriangleList, std::span<const RandomVertex>(verts));
             const std::string hash = hashTargets({t0, t1, depth}, W, H);
             if (run == 0) {

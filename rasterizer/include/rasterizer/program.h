@@ -27,6 +27,7 @@
 // or writes a target it did not declare is an error too (rg::InvalidState).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -119,9 +120,35 @@ struct QuadVaryings {
     std::array<std::array<glm::vec4, 4>, kMaxVaryings + 1> v;  // + the point coordinate
 };
 
+// Point sampling of a float 1D/2D texture whose sampler has NEAREST min and mag filters and
+// no mipmaps, with WRAP or CLAMP_TO_EDGE addressing: every λ selects the nearest texel of
+// the base level, so the fetch needs no level of detail. The depth and normal maps of the
+// image-space searches (tir, impostors) are read this way, many times per fragment; the
+// result is the tap-list reference's bit for bit (tests/programmable/).
+struct NearestFloat2D {
+    const glm::vec4* data = nullptr;  // base level, row-major; null: not this case
+    int width = 0, height = 0;
+    bool wrapS = false, wrapT = false;  // else clamp to edge
+};
+
+inline int nearestTexel(float c, int n, bool wrap) {
+    // ⌊c·n⌋ as the sampler computes it (texunit/addressing.h: toSubTexel, NaN → 0,
+    // clamped to ±2^22), then the address mode.
+    float u = c * float(n);
+    if (!(u == u)) u = 0.0f;
+    u = std::clamp(u, -4194304.0f, 4194304.0f);
+    int i = int(u);
+    if (float(i) > u) --i;
+    if (!wrap) return std::clamp(i, 0, n - 1);
+    if ((n & (n - 1)) == 0) return i & (n - 1);
+    const int r = i % n;
+    return r < 0 ? r + n : r;
+}
+
 struct BoundUnit {
     const tex::Texture* texture = nullptr;
     tex::SamplerState sampler;
+    NearestFloat2D nearest;
 };
 
 }  // namespace detail
@@ -158,7 +185,11 @@ class FragmentContext {
     // At a computed coordinate with explicit gradients (textureGrad, SampleGrad).
     glm::vec4 sampleGrad(int unit, const glm::vec4& c, const glm::vec4& ddx, const glm::vec4& ddy);
     // At a computed coordinate on an explicit level of detail (textureLod, SampleLevel).
-    glm::vec4 sampleLevel(int unit, const glm::vec4& c, float lod);
+    glm::vec4 sampleLevel(int unit, const glm::vec4& c, float lod) {
+        const detail::BoundUnit& b = this->unit(unit);
+        if (b.nearest.data && setup_->path == Path::Fast) return fetchNearest(b.nearest, c);
+        return sampleLevelFiltered(b, c, lod);
+    }
     // Depth compare on level 0: the filtered fraction of taps with ref ≤ depth (shadow2D).
     float sampleCompare(int unit, const glm::vec4& c, float ref);
 
@@ -202,7 +233,19 @@ class FragmentContext {
     uint32_t fetches() const { return fetches_; }
 
   private:
-    const detail::BoundUnit& unit(int u) const;  // throws for an undeclared or unbound unit
+    const detail::BoundUnit& unit(int u) const {
+        if (u < 0 || u >= kMaxProgramUnits || !((setup_->declaredUnits >> u) & 1u)) undeclaredUnit(u);
+        return (*setup_->units)[size_t(u)];  // declared units are checked bound at draw time
+    }
+    [[noreturn]] void undeclaredUnit(int u) const;
+    glm::vec4 sampleLevelFiltered(const detail::BoundUnit& b, const glm::vec4& c, float lod);
+    // The tap list's Σ 1·texel in double is the texel itself, with −0 turned into +0.
+    glm::vec4 fetchNearest(const detail::NearestFloat2D& n, const glm::vec4& c) {
+        ++fetches_;
+        const int x = detail::nearestTexel(c.x, n.width, n.wrapS);
+        const int y = n.height == 1 ? 0 : detail::nearestTexel(c.y, n.height, n.wrapT);
+        return n.data[size_t(y) * size_t(n.width) + size_t(x)] + glm::vec4(0.0f);
+    }
     [[noreturn]] void undeclaredTarget(int target) const;
 
     const Setup* setup_ = nullptr;

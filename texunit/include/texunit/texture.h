@@ -69,6 +69,9 @@ class Texture {
     const Rgba8* data8(int level, int face) const {
         return levels_[level].texels8.data() + size_t(face) * levels_[level].count;
     }
+    const glm::vec4* dataF(int level, int face) const {
+        return levels_[level].texelsF.data() + size_t(face) * levels_[level].count;
+    }
 
     // Render-to-texture (geforce8800): a texture made by TextureMemory::createRenderTarget()
     // is written in place by the programmable pipeline's output merger, so a later pass
