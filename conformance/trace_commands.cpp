@@ -37,6 +37,10 @@ TraceCommands::TraceCommands(CLI::App& app) {
     conform_ = app.add_subcommand("conform", "replay every golden trace on ours and on Mesa and "
                                              "compare against the tolerances of docs/hardware.md");
     conform_->add_option("--golden", goldenDir_, "folder of golden traces (default tests/golden)");
+    // `retroglass replay FILE --threads N --path reference` as docs/trace-format.md writes
+    // it: the program's global options are accepted after the subcommand too.
+    replay_->fallthrough();
+    conform_->fallthrough();
 }
 
 bool TraceCommands::parsed() const { return replay_->parsed() || conform_->parsed(); }
@@ -54,6 +58,9 @@ int TraceCommands::run(int threads, const std::string& path) const {
         }
         fb = std::move(m.framebuffer);
     } else {
+        if (pass_ >= 0 && trace.passCount() == 0)
+            throw Error("--pass " + std::to_string(pass_) + ": '" + file_ +
+                        "' has no BeginPass records; replay it without --pass");
         raster::ReplayOptions o;
         o.path = path == "reference" ? Path::Reference : Path::Fast;
         o.threads = threads;

@@ -209,6 +209,7 @@ int main(int argc, char** argv) {
     bench->add_option("--trace", benchOptions.trace,
                       "time the replay of a captured trace on ours and on Mesa llvmpipe "
                       "(ours only where Mesa lacks a feature) instead of the built-in workloads");
+    bench->fallthrough();  // `bench --trace F --threads N`: the global options after it too
 #endif
 
     CLI11_PARSE(app, argc, argv);
