@@ -55,6 +55,31 @@ struct BinarySearchFP {
     }
 };
 
+// The same algorithm as a quad program (rasterizer/quad_program.h): the four pixels of a
+// quad in SSE lanes, the branch as a select — what the benchmark runs.
+struct BinarySearchQuadFP {
+    static constexpr int kVaryings = 0;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 1;
+    static constexpr bool kWritesDepth = false;
+    void operator()(raster::QuadContext& q) const {
+        using raster::Float4;
+        const raster::Vec4x4& fc = q.fragCoord();
+        const Float4 u = fc.x / Float4(float(bs::kWidth)), v = fc.y / Float4(float(bs::kHeight));
+        const raster::Vec3x4 a(u, v, Float4(0.0f)), b(u + bs::kRayDx, v + bs::kRayDy, Float4(1.0f));
+        Float4 lo(0.0f), hi(1.0f), d(0.0f);
+        for (int step = 0; step < bs::kSteps; ++step) {
+            const Float4 mid = Float4(0.5f) * (lo + hi);
+            const raster::Vec3x4 p = a + (b - a) * mid;
+            d = q.sampleLevel(0, raster::Vec4x4(p.x, p.y, Float4(0.0f), Float4(0.0f)), Float4(0.0f)).x;
+            const raster::Mask4 above = p.z > d;
+            hi = select(above, mid, hi);
+            lo = select(above, lo, mid);
+        }
+        q.output(0, raster::Vec4x4(Float4(0.5f) * (lo + hi), d, Float4(0.0f), Float4(1.0f)));
+    }
+};
+
 // One frame of the workload on a fresh device; the RGBA8 image in the header's row order.
 // Used by the benchmark and by tests/programmable (against bs::referenceImage()).
 struct BinarySearchScene {
@@ -86,15 +111,23 @@ struct BinarySearchScene {
         quad = {{{-1, 1, 0.5f, 1}}, {{1, 1, 0.5f, 1}}, {{-1, -1, 0.5f, 1}},
                 {{1, 1, 0.5f, 1}},  {{1, -1, 0.5f, 1}}, {{-1, -1, 0.5f, 1}}};
     }
-    void frame() {
+    void frame() {  // the quad program
+        device.draw(QuadVP{}, BinarySearchQuadFP{}, ProgramPrimitive::TriangleList,
+                    std::span<const QuadVertex>(quad));
+    }
+    void frameScalar() {  // the pixel-by-pixel program
         device.draw(QuadVP{}, BinarySearchFP{}, ProgramPrimitive::TriangleList,
                     std::span<const QuadVertex>(quad));
     }
 };
 
-inline std::vector<uint8_t> renderRetroglass(int threads) {
+inline std::vector<uint8_t> renderRetroglass(int threads, bool quadProgram = true, Path path = Path::Fast) {
     BinarySearchScene scene(threads);
-    scene.frame();
+    scene.device.setPath(path);
+    if (quadProgram)
+        scene.frame();
+    else
+        scene.frameScalar();
     const Rgba8* p = scene.target->renderData8(0, 0);
     std::vector<uint8_t> out(size_t(bs::kWidth) * bs::kHeight * 4);
     std::memcpy(out.data(), p, out.size());

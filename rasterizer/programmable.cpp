@@ -121,6 +121,99 @@ float FragmentContext::sampleCompare(int u, const glm::vec4& c, float ref) {
     return tex::programFetchCompare(*b.texture, b.sampler, c, ref, lambda, setup_->path, fetches_);
 }
 
+// ---- quad context -------------------------------------------------------------------------
+
+void QuadContext::undeclaredTarget(int target) const {
+    throw InvalidState("quad program writes render target " + std::to_string(target) +
+                       ", which it does not declare in kTargets");
+}
+
+const detail::BoundUnit& QuadContext::unit(int u) const {
+    if (u < 0 || u >= kMaxProgramUnits || !((setup_->declaredUnits >> u) & 1u))
+        throw InvalidState("quad program reads texture unit " + std::to_string(u) +
+                           ", which it does not declare in kUnits");
+    return (*setup_->units)[size_t(u)];
+}
+
+namespace {
+
+// detail::nearestTexel on four lanes: ⌊c·n⌋ (NaN → 0, clamped to ±2^22), then WRAP (a
+// power-of-two mask) or CLAMP_TO_EDGE. Clamping the float to [0, n − 1] before the floor
+// equals clamping the floored integer. Non-power-of-two WRAP returns false (scalar path).
+bool nearestTexels4(__m128 c, int n, bool wrap, __m128i& out) {
+    if (wrap && (n & (n - 1)) != 0) return false;
+    __m128 u = _mm_mul_ps(c, _mm_set1_ps(float(n)));
+    u = _mm_and_ps(u, _mm_cmpord_ps(u, u));  // NaN → 0
+    if (wrap)
+        u = _mm_max_ps(_mm_min_ps(u, _mm_set1_ps(4194304.0f)), _mm_set1_ps(-4194304.0f));
+    else
+        u = _mm_max_ps(_mm_min_ps(u, _mm_set1_ps(float(n - 1))), _mm_setzero_ps());
+    __m128i i = _mm_cvttps_epi32(u);
+    // Truncation rounded a negative non-integer up: step down (the mask is −1 there).
+    i = _mm_add_epi32(i, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i), u)));
+    if (wrap) i = _mm_and_si128(i, _mm_set1_epi32(n - 1));
+    out = i;
+    return true;
+}
+
+}  // namespace
+
+Vec4x4 QuadContext::sampleLevel(int u, const Vec4x4& c, Float4 lod) {
+    const detail::BoundUnit& b = unit(u);
+    const uint32_t lanes = active_ & ~discarded_;
+    if (b.nearest.valid() && setup_->path == Path::Fast) {
+        const detail::NearestFloat2D& n = b.nearest;
+        __m128i xi, yi = _mm_setzero_si128();
+        if (nearestTexels4(c.x.v, n.width, n.wrapS, xi) &&
+            (n.height == 1 || nearestTexels4(c.y.v, n.height, n.wrapT, yi))) {
+            // Every lane's texel is inside the level (addressing saw to it), so all four are
+            // read and the inactive ones zeroed afterwards: no branches per lane.
+            alignas(16) int32_t xs[4], ys[4];
+            _mm_store_si128(reinterpret_cast<__m128i*>(xs), xi);
+            _mm_store_si128(reinterpret_cast<__m128i*>(ys), yi);
+            size_t idx[4];
+            for (int i = 0; i < 4; ++i) idx[i] = size_t(ys[i]) * size_t(n.width) + size_t(xs[i]);
+            const __m128 live = Mask4::fromBits(lanes).v;
+            for (int i = 0; i < 4; ++i) fetches_[size_t(i)] += (lanes >> i) & 1u;
+            if (n.data1) {
+                // The tap sum's 0 + texel: −0 becomes +0.
+                const __m128 v = _mm_and_ps(
+                    _mm_add_ps(_mm_setr_ps(n.data1[idx[0]], n.data1[idx[1]], n.data1[idx[2]], n.data1[idx[3]]),
+                               _mm_setzero_ps()),
+                    live);
+                const Float4 r(v), one(_mm_and_ps(_mm_set1_ps(1.0f), live));
+                return n.depth ? Vec4x4(r, r, r, one) : Vec4x4(r, Float4(0.0f), Float4(0.0f), one);
+            }
+            __m128 t0 = _mm_loadu_ps(&n.data4[idx[0]].x), t1 = _mm_loadu_ps(&n.data4[idx[1]].x);
+            __m128 t2 = _mm_loadu_ps(&n.data4[idx[2]].x), t3 = _mm_loadu_ps(&n.data4[idx[3]].x);
+            _MM_TRANSPOSE4_PS(t0, t1, t2, t3);
+            const __m128 z = _mm_setzero_ps();
+            return {Float4(_mm_and_ps(_mm_add_ps(t0, z), live)), Float4(_mm_and_ps(_mm_add_ps(t1, z), live)),
+                    Float4(_mm_and_ps(_mm_add_ps(t2, z), live)), Float4(_mm_and_ps(_mm_add_ps(t3, z), live))};
+        }
+    }
+    alignas(16) float cx[4], cy[4], cz[4], cw[4], l[4];
+    _mm_store_ps(cx, c.x.v);
+    _mm_store_ps(cy, c.y.v);
+    _mm_store_ps(cz, c.z.v);
+    _mm_store_ps(cw, c.w.v);
+    _mm_store_ps(l, lod.v);
+    std::array<glm::vec4, 4> t{};
+    for (int i = 0; i < 4; ++i) {
+        if (!((lanes >> i) & 1u)) continue;
+        if (b.nearest.valid() && setup_->path == Path::Fast) {
+            t[size_t(i)] = b.nearest.fetch(cx[i], cy[i]);
+            ++fetches_[size_t(i)];
+            continue;
+        }
+        const int32_t lambda = tex::programLambdaLod(b.sampler, l[i]);
+        t[size_t(i)] = tex::programFetch(*b.texture, b.sampler, glm::vec4(cx[i], cy[i], cz[i], cw[i]), lambda,
+                                         setup_->path, fetches_[size_t(i)]);
+    }
+    return {Float4::lanes(t[0].x, t[1].x, t[2].x, t[3].x), Float4::lanes(t[0].y, t[1].y, t[2].y, t[3].y),
+            Float4::lanes(t[0].z, t[1].z, t[2].z, t[3].z), Float4::lanes(t[0].w, t[1].w, t[2].w, t[3].w)};
+}
+
 // ---- output merger ------------------------------------------------------------------------
 
 namespace detail {
@@ -209,25 +302,28 @@ glm::vec4 blendFloat(const TargetBlend& b, const glm::vec4& s, const glm::vec4& 
 
 }  // namespace
 
-void mergeFragment(const ProgramDraw& d, int x, int y, const FragmentContext& f) {
-    const uint32_t written = f.written();
+void mergeFragment(const ProgramDraw& d, int x, int y,
+                   const std::array<glm::vec4, kMaxColorTargets>& out, uint32_t written) {
     for (int k = 0; k < d.numTargets; ++k) {
         if (!((written >> k) & 1u)) continue;  // not written by this fragment: unchanged
         const TargetView& t = d.targets[size_t(k)];
         const size_t i = size_t(y) * size_t(t.width) + size_t(x);
         if (t.data8) {
             const Rgba8 dst = t.data8[i];
-            Rgba8 src = tex::floatToRgba8(f.out(k));
+            Rgba8 src = tex::floatToRgba8(out[size_t(k)]);
             if (t.blend.enable) src = blendPixel(t.blend.src, t.blend.dst, t.blend.op, src, dst);
             t.data8[i] = applyWriteMask(t.blend.writeMask, src, dst);
         } else {
-            const glm::vec4 dst = t.dataF[i];
-            glm::vec4 src = f.out(k);
+            const glm::vec4 dst = t.data1 ? glm::vec4(t.data1[i], 0.0f, 0.0f, 1.0f) : t.dataF[i];
+            glm::vec4 src = out[size_t(k)];
             if (t.blend.enable) src = blendFloat(t.blend, src, dst);
             const uint8_t m = t.blend.writeMask;
             const glm::vec4 merged((m & kWriteR) ? src.x : dst.x, (m & kWriteG) ? src.y : dst.y,
                                    (m & kWriteB) ? src.z : dst.z, (m & kWriteA) ? src.w : dst.w);
-            t.dataF[i] = toStored(t.format, merged);
+            if (t.data1)
+                t.data1[i] = toStored(t.format, merged).x;
+            else
+                t.dataF[i] = toStored(t.format, merged);
         }
     }
 }
@@ -365,7 +461,11 @@ void ProgrammableDevice::setTexture(int unit, std::shared_ptr<const tex::Texture
         sampler.mipFilter == tex::MipMode::None && simple(sampler.address[0]) &&
         (texture->dims() == 1 || simple(sampler.address[1]))) {
         const int base = std::clamp(sampler.baseLevel, 0, texture->levels() - 1);
-        b.nearest.data = texture->dataF(base, 0);
+        if (texture->singleChannel())
+            b.nearest.data1 = texture->dataR(base, 0);
+        else
+            b.nearest.data4 = texture->dataF(base, 0);
+        b.nearest.depth = texture->format().isDepth;
         b.nearest.width = texture->levelSize(base)[0];
         b.nearest.height = texture->levelSize(base)[1];
         b.nearest.wrapS = sampler.address[0] == AddressMode::Wrap;
@@ -408,6 +508,10 @@ void ProgrammableDevice::clearColor(int target, const glm::vec4& value) {
         const Rgba8 v = tex::floatToRgba8(value);
         Rgba8* p = t.renderData8(ct.level, ct.face);
         for (int y = y0; y < y1; ++y) std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, v);
+    } else if (t.singleChannel()) {
+        const float v = detail::toStored(t.desc().format, value).x;
+        float* p = t.renderDataR(ct.level, ct.face);
+        for (int y = y0; y < y1; ++y) std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, v);
     } else {
         const glm::vec4 v = detail::toStored(t.desc().format, value);
         glm::vec4* p = t.renderDataF(ct.level, ct.face);
@@ -423,9 +527,8 @@ void ProgrammableDevice::clearDepth(float value) {
     const float z = detail::storedDepth(d, double(value));
     int x0, y0, x1, y1;
     clearRect(m.viewport, m.scissorOn, m.scissor, m.width, m.height, x0, y0, x1, y1);
-    glm::vec4* p = m.depth.texture->renderDataF(m.depth.level, m.depth.face);
-    for (int y = y0; y < y1; ++y)
-        std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, glm::vec4(z, z, z, 1.0f));
+    float* p = m.depth.texture->renderDataR(m.depth.level, m.depth.face);
+    for (int y = y0; y < y1; ++y) std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, z);
 }
 
 detail::ProgramDraw& ProgrammableDevice::beginDraw(int varyings, uint32_t targets, uint32_t units,
@@ -473,13 +576,15 @@ detail::ProgramDraw& ProgrammableDevice::beginDraw(int varyings, uint32_t target
         v.format = ct.texture->desc().format;
         v.width = m.width;
         v.blend = m.state.blend[k];
-        if (ct.texture->isFloat())
+        if (ct.texture->singleChannel())
+            v.data1 = ct.texture->renderDataR(ct.level, ct.face);
+        else if (ct.texture->isFloat())
             v.dataF = ct.texture->renderDataF(ct.level, ct.face);
         else
             v.data8 = ct.texture->renderData8(ct.level, ct.face);
     }
     if (m.depth.texture && (m.state.depthTest || m.state.depthWrite)) {
-        d.depthData = m.depth.texture->renderDataF(m.depth.level, m.depth.face);
+        d.depthData = m.depth.texture->renderDataR(m.depth.level, m.depth.face);
         d.depthWidth = m.width;
         d.depthD24 = m.depth.texture->desc().format == tex::TexelFormat::Depth24;
         d.depthTest = m.state.depthTest != 0;

@@ -53,6 +53,7 @@ Texture::Texture(const TextureDesc& desc, std::shared_ptr<Pool> pool)
     dims_ = dimsOf(desc.target);
     faces_ = desc.target == TextureTarget::CubeMap ? 6 : 1;
     const FormatInfo& fi = formatInfo(desc.format);
+    singleChannel_ = fi.isDepth || desc.format == TexelFormat::R16F || desc.format == TexelFormat::R32F;
     std::array<int, 4> base{desc.width, desc.height, desc.depth, desc.size4};
     levels_.resize(size_t(desc.levels));
     for (int l = 0; l < desc.levels; ++l) {
@@ -62,7 +63,9 @@ Texture::Texture(const TextureDesc& desc, std::shared_ptr<Pool> pool)
             lv.size[size_t(d)] = d < dims_ ? std::max(1, base[size_t(d)] >> l) : 1;
             lv.count *= size_t(lv.size[size_t(d)]);
         }
-        if (fi.isFloat)
+        if (singleChannel_)
+            lv.texelsR.assign(lv.count * size_t(faces_), 0.0f);
+        else if (fi.isFloat)
             lv.texelsF.assign(lv.count * size_t(faces_), glm::vec4(0.0f));
         else
             lv.texels8.assign(lv.count * size_t(faces_), Rgba8{});
@@ -184,7 +187,9 @@ void TextureMemory::upload(Texture& t, int level, int face, std::span<const uint
     const size_t off = size_t(face) * lv.count;
     for (size_t i = 0; i < lv.count; ++i) {
         const uint8_t* p = bytes.data() + i * size_t(fi.bytesPerTexel);
-        if (fi.isFloat)
+        if (t.singleChannel_)
+            lv.texelsR[off + i] = expandTexelFloat(t.desc().format, p).x;
+        else if (fi.isFloat)
             lv.texelsF[off + i] = expandTexelFloat(t.desc().format, p);
         else
             lv.texels8[off + i] = expandTexel8(t.desc().format, p);

@@ -10,8 +10,15 @@ namespace {
 
 TEST(ProgrammableSearch, BenchmarkFrameEqualsTheWorkloadReferenceOnAnyThreadCount) {
     const std::vector<uint8_t> want = referenceImage(depthImage());
-    for (int threads : {1, 2}) {
-        const std::vector<uint8_t> got = renderRetroglass(threads);
+    struct Run {
+        int threads;
+        bool quad;
+        Path path;
+    };
+    for (const Run& r : {Run{1, true, Path::Fast}, Run{2, true, Path::Fast}, Run{2, false, Path::Fast},
+                         Run{1, true, Path::Reference}}) {
+        const int threads = r.threads;
+        const std::vector<uint8_t> got = renderRetroglass(r.threads, r.quad, r.path);
         ASSERT_EQ(got.size(), want.size());
         size_t differing = 0, first = got.size();
         for (size_t i = 0; i < got.size(); ++i)
@@ -19,7 +26,9 @@ TEST(ProgrammableSearch, BenchmarkFrameEqualsTheWorkloadReferenceOnAnyThreadCoun
                 ++differing;
                 if (first == got.size()) first = i;
             }
-        EXPECT_EQ(differing, 0u) << threads << " threads; first differing byte " << first
+        EXPECT_EQ(differing, 0u) << threads << " threads, " << (r.quad ? "quad" : "scalar")
+                                 << " program, " << (r.path == Path::Fast ? "fast" : "reference")
+                                 << " path; first differing byte " << first
                                  << " (pixel " << first / 4 << ")";
     }
 }

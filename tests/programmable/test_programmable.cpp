@@ -310,7 +310,7 @@ TEST(ProgrammableFloatTargets, AdditiveBlendAccumulatesUnclampedAndMrtWritesEach
     for (int pass = 0; pass < 5; ++pass)
         dev.draw(PassVP{}, Mrt{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
     EXPECT_EQ(a->renderDataF(0, 0)[37], glm::vec4(7.5f, 1.25f, 15.0f, 5.0f));
-    EXPECT_EQ(b->renderDataF(0, 0)[37], glm::vec4(0.625f, 0.0f, 0.0f, 1.0f));
+    EXPECT_EQ(b->renderDataR(0, 0)[37], 0.625f);
 }
 
 // ---- render to texture, depth, depth compare ----------------------------------------------
@@ -364,7 +364,7 @@ TEST(ProgrammableDepth, EarlyAndLateDepthTestAndShadowCompare) {
     EXPECT_EQ(dev.counters().fragmentsDepthFailed, uint64_t(W * H / 2));
     EXPECT_EQ(dev.counters().fragmentInvocations, uint64_t(W * H / 2));  // early test
     const float q25 = float(double(std::floor(0.25 * 16777215.0 + 0.5)) / 16777215.0);
-    EXPECT_EQ(depth->renderDataF(0, 0)[3].x, q25);
+    EXPECT_EQ(depth->renderDataR(0, 0)[3], q25);
 
     // A program writing depth runs for every pixel (late test).
     dev.beginFrame();
@@ -388,9 +388,9 @@ TEST(ProgrammableDepth, EarlyAndLateDepthTestAndShadowCompare) {
     EXPECT_EQ(rt2->renderDataF(0, 0)[5], glm::vec4(1, 0, 0, 1));
     // Percentage-closer: a depth step between texels 7 and 8 of a row, sampled LINEAR
     // halfway between the two texel centres → exactly half the weight passes.
-    glm::vec4* dp = depth->renderDataF(0, 0);
+    float* dp = depth->renderDataR(0, 0);
     for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) dp[y * W + x] = glm::vec4(x < 8 ? 0.0f : 1.0f);
+        for (int x = 0; x < W; ++x) dp[y * W + x] = x < 8 ? 0.0f : 1.0f;
     cmp.magFilter = cmp.minFilter = tex::FilterMode::Linear;
     uint32_t fetches = 0;
     const float pcf = tex::programFetchCompare(*depth, cmp, glm::vec4(8.0f / W, 0.5f, 0, 0), 0.5f,
@@ -546,9 +546,10 @@ struct RandomFP {
 std::string hashTargets(const std::vector<std::shared_ptr<tex::Texture>>& ts, int w, int h) {
     std::vector<uint8_t> bytes;
     for (const auto& t : ts) {
-        const uint8_t* p = t->isFloat() ? reinterpret_cast<const uint8_t*>(t->renderDataF(0, 0))
-                                        : reinterpret_cast<const uint8_t*>(t->renderData8(0, 0));
-        const size_t n = size_t(w) * size_t(h) * (t->isFloat() ? sizeof(glm::vec4) : 4);
+        const uint8_t* p = t->singleChannel() ? reinterpret_cast<const uint8_t*>(t->renderDataR(0, 0))
+                           : t->isFloat()     ? reinterpret_cast<const uint8_t*>(t->renderDataF(0, 0))
+                                              : reinterpret_cast<const uint8_t*>(t->renderData8(0, 0));
+        const size_t n = size_t(w) * size_t(h) * (t->singleChannel() ? 4 : t->isFloat() ? sizeof(glm::vec4) : 4);
         bytes.insert(bytes.end(), p, p + n);
     }
     return sha256Hex(bytes.data(), bytes.size());

@@ -120,17 +120,6 @@ struct QuadVaryings {
     std::array<std::array<glm::vec4, 4>, kMaxVaryings + 1> v;  // + the point coordinate
 };
 
-// Point sampling of a float 1D/2D texture whose sampler has NEAREST min and mag filters and
-// no mipmaps, with WRAP or CLAMP_TO_EDGE addressing: every λ selects the nearest texel of
-// the base level, so the fetch needs no level of detail. The depth and normal maps of the
-// image-space searches (tir, impostors) are read this way, many times per fragment; the
-// result is the tap-list reference's bit for bit (tests/programmable/).
-struct NearestFloat2D {
-    const glm::vec4* data = nullptr;  // base level, row-major; null: not this case
-    int width = 0, height = 0;
-    bool wrapS = false, wrapT = false;  // else clamp to edge
-};
-
 inline int nearestTexel(float c, int n, bool wrap) {
     // ⌊c·n⌋ as the sampler computes it (texunit/addressing.h: toSubTexel, NaN → 0,
     // clamped to ±2^22), then the address mode.
@@ -144,6 +133,30 @@ inline int nearestTexel(float c, int n, bool wrap) {
     const int r = i % n;
     return r < 0 ? r + n : r;
 }
+
+// Point sampling of a float 1D/2D texture whose sampler has NEAREST min and mag filters and
+// no mipmaps, with WRAP or CLAMP_TO_EDGE addressing: every λ selects the nearest texel of
+// the base level, so the fetch needs no level of detail. The depth and normal maps of the
+// image-space searches (tir, impostors) are read this way, many times per fragment; the
+// result is the tap-list reference's bit for bit (tests/programmable/).
+struct NearestFloat2D {
+    const glm::vec4* data4 = nullptr;  // base level, row-major (RGBA16F, RGBA32F), or
+    const float* data1 = nullptr;      // (R16F, R32F, depth); both null: not this case
+    bool depth = false;                // data1 expands to (d, d, d, 1), else (r, 0, 0, 1)
+    int width = 0, height = 0;
+    bool wrapS = false, wrapT = false;  // else clamp to edge
+    bool valid() const { return data4 || data1; }
+    // The tap list's Σ 1·texel in double is the texel itself, with −0 turned into +0.
+    glm::vec4 fetch(float s, float t) const {
+        const int x = nearestTexel(s, width, wrapS);
+        const int y = height == 1 ? 0 : nearestTexel(t, height, wrapT);
+        const size_t i = size_t(y) * size_t(width) + size_t(x);
+        if (data4) return data4[i] + glm::vec4(0.0f);
+        const float v = data1[i] + 0.0f;
+        return depth ? glm::vec4(v, v, v, 1.0f) : glm::vec4(v, 0.0f, 0.0f, 1.0f);
+    }
+};
+
 
 struct BoundUnit {
     const tex::Texture* texture = nullptr;
@@ -187,7 +200,10 @@ class FragmentContext {
     // At a computed coordinate on an explicit level of detail (textureLod, SampleLevel).
     glm::vec4 sampleLevel(int unit, const glm::vec4& c, float lod) {
         const detail::BoundUnit& b = this->unit(unit);
-        if (b.nearest.data && setup_->path == Path::Fast) return fetchNearest(b.nearest, c);
+        if (b.nearest.valid() && setup_->path == Path::Fast) {
+            ++fetches_;
+            return b.nearest.fetch(c.x, c.y);
+        }
         return sampleLevelFiltered(b, c, lod);
     }
     // Depth compare on level 0: the filtered fraction of taps with ref ≤ depth (shadow2D).
@@ -228,6 +244,7 @@ class FragmentContext {
     bool discarded() const { return discarded_; }
     uint32_t written() const { return written_; }
     const glm::vec4& out(int target) const { return out_[size_t(target)]; }
+    const std::array<glm::vec4, kMaxColorTargets>& outputs() const { return out_; }
     bool depthWritten() const { return depthWritten_; }
     float depthValue() const { return depth_; }
     uint32_t fetches() const { return fetches_; }
@@ -239,13 +256,6 @@ class FragmentContext {
     }
     [[noreturn]] void undeclaredUnit(int u) const;
     glm::vec4 sampleLevelFiltered(const detail::BoundUnit& b, const glm::vec4& c, float lod);
-    // The tap list's Σ 1·texel in double is the texel itself, with −0 turned into +0.
-    glm::vec4 fetchNearest(const detail::NearestFloat2D& n, const glm::vec4& c) {
-        ++fetches_;
-        const int x = detail::nearestTexel(c.x, n.width, n.wrapS);
-        const int y = n.height == 1 ? 0 : detail::nearestTexel(c.y, n.height, n.wrapT);
-        return n.data[size_t(y) * size_t(n.width) + size_t(x)] + glm::vec4(0.0f);
-    }
     [[noreturn]] void undeclaredTarget(int target) const;
 
     const Setup* setup_ = nullptr;

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -23,6 +24,7 @@
 #include "core/profile.h"
 #include "rasterizer/device.h"
 #include "rasterizer/program.h"
+#include "rasterizer/quad_program.h"
 #include "rasterizer/state.h"
 
 namespace rg::raster {
@@ -46,6 +48,7 @@ struct TargetView {
     int width = 0;
     Rgba8* data8 = nullptr;
     glm::vec4* dataF = nullptr;
+    float* data1 = nullptr;  // R16F, R32F: one float per texel
     TargetBlend blend;
 };
 
@@ -56,7 +59,7 @@ struct ProgramDraw {
     int numTargets = 0;
     std::array<TargetView, kMaxColorTargets> targets{};
     // Depth attachment: window z quantized as the format stores it, compared as floats.
-    glm::vec4* depthData = nullptr;
+    float* depthData = nullptr;
     int depthWidth = 0;
     bool depthD24 = false;
     bool depthTest = false;
@@ -72,7 +75,12 @@ float storedDepth(const ProgramDraw& d, double z);
 bool depthPasses(CompareFunc f, float incoming, float stored);
 // The output merger for one fragment at pixel (x, y): blend and write every target the
 // program wrote.
-void mergeFragment(const ProgramDraw& d, int x, int y, const FragmentContext& f);
+void mergeFragment(const ProgramDraw& d, int x, int y,
+                   const std::array<glm::vec4, kMaxColorTargets>& out, uint32_t written);
+
+// A quad program (quad_program.h) takes a QuadContext; a scalar one a FragmentContext.
+template <class FP>
+constexpr bool kIsQuadProgram = requires(const FP& fp, QuadContext& q) { fp(q); };
 
 // Interpolation (docs/hardware.md, "Programmable profile: interpolation"): every plane at
 // fx = (x + ½) − x0, fy = (y + ½) − y0 as (c + dx·fx) + dy·fy in float, divided by 1/w.
@@ -119,11 +127,11 @@ inline void shadeFragment(const FP& fp, const ProgramDraw& d, const ProgramTrian
     ++c.fragmentsGenerated;
     const double z = (t.zc + t.zdx * ((double(px) + 0.5) - double(t.x0))) +
                      t.zdy * ((double(py) + 0.5) - double(t.y0));
-    glm::vec4* depthTexel =
+    float* depthTexel =
         d.depthData ? d.depthData + size_t(py) * size_t(d.depthWidth) + size_t(px) : nullptr;
     float zStore = depthTexel ? storedDepth(d, z) : 0.0f;
     // Early depth test: a program that does not write depth cannot change the outcome.
-    if (!FP::kWritesDepth && depthTexel && d.depthTest && !depthPasses(d.depthFunc, zStore, depthTexel->x)) {
+    if (!FP::kWritesDepth && depthTexel && d.depthTest && !depthPasses(d.depthFunc, zStore, *depthTexel)) {
         ++c.fragmentsDepthFailed;
         return;
     }
@@ -138,14 +146,65 @@ inline void shadeFragment(const FP& fp, const ProgramDraw& d, const ProgramTrian
     }
     if (FP::kWritesDepth && depthTexel) {
         zStore = storedDepth(d, double(f.depthValue()));
-        if (d.depthTest && !depthPasses(d.depthFunc, zStore, depthTexel->x)) {
+        if (d.depthTest && !depthPasses(d.depthFunc, zStore, *depthTexel)) {
             ++c.fragmentsDepthFailed;
             return;
         }
     }
-    if (depthTexel && d.depthWrite) *depthTexel = glm::vec4(zStore, zStore, zStore, 1.0f);
-    mergeFragment(d, px, py, f);
+    if (depthTexel && d.depthWrite) *depthTexel = zStore;
+    mergeFragment(d, px, py, f.outputs(), f.written());
     ++c.fragmentsWritten;
+}
+
+// The covered lanes `mask` of a quad through a quad program: the early depth test per
+// lane, the program once for the lanes that passed, then per lane what shadeFragment does
+// after the program. The counters are those of running the lanes one by one.
+template <class FP>
+inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const ProgramTriangle& t,
+                           const QuadVaryings& q, const std::array<float, 4>& iw, uint32_t mask,
+                           int qx, int qy, QuadContext& f, ProgramCounters& c) {
+    static_assert(!FP::kWritesDepth, "quad programs cannot write depth");
+    float zf[4];
+    float zStore[4] = {0, 0, 0, 0};
+    uint32_t run = 0;
+    for (int p = 0; p < 4; ++p) {
+        const int px = qx + (p & 1), py = qy + (p >> 1);
+        const double z = (t.zc + t.zdx * ((double(px) + 0.5) - double(t.x0))) +
+                         t.zdy * ((double(py) + 0.5) - double(t.y0));
+        zf[p] = float(z);
+        if (!((mask >> p) & 1u)) continue;
+        ++c.fragmentsGenerated;
+        if (d.depthData) {
+            zStore[p] = storedDepth(d, z);
+            const float stored = d.depthData[size_t(py) * size_t(d.depthWidth) + size_t(px)];
+            if (d.depthTest && !depthPasses(d.depthFunc, zStore[p], stored)) {
+                ++c.fragmentsDepthFailed;
+                continue;
+            }
+        }
+        run |= 1u << p;
+    }
+    if (!run) return;
+    const float x0 = float(qx) + 0.5f, y0 = float(qy) + 0.5f;
+    f.begin(d.ctx, &q, run,
+            Vec4x4(Float4::lanes(x0, x0 + 1.0f, x0, x0 + 1.0f), Float4::lanes(y0, y0, y0 + 1.0f, y0 + 1.0f),
+                   Float4::lanes(zf[0], zf[1], zf[2], zf[3]), Float4::lanes(iw[0], iw[1], iw[2], iw[3])));
+    fp(f);
+    for (int p = 0; p < 4; ++p) {
+        if (!((run >> p) & 1u)) continue;
+        ++c.fragmentInvocations;
+        c.textureFetches += f.fetches(p);
+        if (f.fetches(p) > c.maxFetchesPerFragment) c.maxFetchesPerFragment = f.fetches(p);
+        if ((f.discardedLanes() >> p) & 1u) {
+            ++c.fragmentsDiscarded;
+            continue;
+        }
+        const int px = qx + (p & 1), py = qy + (p >> 1);
+        if (d.depthData && d.depthWrite)
+            d.depthData[size_t(py) * size_t(d.depthWidth) + size_t(px)] = zStore[p];
+        mergeFragment(d, px, py, f.out(p), f.written(p));
+        ++c.fragmentsWritten;
+    }
 }
 
 template <class FP>
@@ -163,7 +222,7 @@ struct ProgramKernel {
         if (x0 > x1 || y0 > y1) return;
         QuadVaryings q;
         std::array<float, 4> iw;
-        FragmentContext f;
+        std::conditional_t<kIsQuadProgram<FP>, QuadContext, FragmentContext> f;
         for (int qy = y0 & ~1; qy <= y1; qy += 2)
             for (int qx = x0 & ~1; qx <= x1; qx += 2) {
                 uint32_t mask = 0;
@@ -175,9 +234,13 @@ struct ProgramKernel {
                 }
                 if (!mask) continue;
                 interpolateQuad(d, t, qx, qy, q, iw);
-                for (int p = 0; p < 4; ++p)
-                    if (mask & (1u << p))
-                        shadeFragment(*k.fp, d, t, q, iw, p, qx + (p & 1), qy + (p >> 1), f, c);
+                if constexpr (kIsQuadProgram<FP>) {
+                    shadeQuadLanes(*k.fp, d, t, q, iw, mask, qx, qy, f, c);
+                } else {
+                    for (int p = 0; p < 4; ++p)
+                        if (mask & (1u << p))
+                            shadeFragment(*k.fp, d, t, q, iw, p, qx + (p & 1), qy + (p >> 1), f, c);
+                }
             }
     }
 
@@ -189,12 +252,17 @@ struct ProgramKernel {
         const ProgramDraw& d = *k.d;
         QuadVaryings q;
         std::array<float, 4> iw;
-        FragmentContext f;
+        std::conditional_t<kIsQuadProgram<FP>, QuadContext, FragmentContext> f;
         for (int py = t.minY; py <= t.maxY; ++py)
             for (int px = t.minX; px <= t.maxX; ++px) {
                 if (!covers(t, px, py, d.subpixelBits)) continue;
                 interpolateQuad(d, t, px & ~1, py & ~1, q, iw);
-                shadeFragment(*k.fp, d, t, q, iw, (px & 1) | ((py & 1) << 1), px, py, f, c);
+                const int p = (px & 1) | ((py & 1) << 1);
+                // A quad program runs with this pixel's lane alone.
+                if constexpr (kIsQuadProgram<FP>)
+                    shadeQuadLanes(*k.fp, d, t, q, iw, 1u << p, px & ~1, py & ~1, f, c);
+                else
+                    shadeFragment(*k.fp, d, t, q, iw, p, px, py, f, c);
             }
     }
 };

@@ -62,15 +62,27 @@ class Texture {
                                       index(level, x, y, z, w)];
     }
     glm::vec4 texelFloat(int level, int face, int x, int y, int z, int w) const {
-        return levels_[level].texelsF[size_t(face) * levels_[level].count +
-                                      index(level, x, y, z, w)];
+        const size_t i = size_t(face) * levels_[level].count + index(level, x, y, z, w);
+        if (singleChannel_) {
+            // One float per texel in memory, expanded as expandTexelFloat() does.
+            const float v = levels_[level].texelsR[i];
+            return format().isDepth ? glm::vec4(v, v, v, 1.0f) : glm::vec4(v, 0.0f, 0.0f, 1.0f);
+        }
+        return levels_[level].texelsF[i];
     }
+    // R16F, R32F and the depth formats keep one float per texel (dataR), the other float
+    // formats a vec4 (dataF): a 512² R32F depth map is 1 MiB, not 4, and stays in cache
+    // for the image-space searches that read it many times per fragment.
+    bool singleChannel() const { return singleChannel_; }
     // Row-major level data of one face (x fastest, then y, z, w).
     const Rgba8* data8(int level, int face) const {
         return levels_[level].texels8.data() + size_t(face) * levels_[level].count;
     }
     const glm::vec4* dataF(int level, int face) const {
         return levels_[level].texelsF.data() + size_t(face) * levels_[level].count;
+    }
+    const float* dataR(int level, int face) const {
+        return levels_[level].texelsR.data() + size_t(face) * levels_[level].count;
     }
 
     // Render-to-texture (geforce8800): a texture made by TextureMemory::createRenderTarget()
@@ -85,6 +97,9 @@ class Texture {
     glm::vec4* renderDataF(int level, int face) {
         return levels_[level].texelsF.data() + size_t(face) * levels_[level].count;
     }
+    float* renderDataR(int level, int face) {
+        return levels_[level].texelsR.data() + size_t(face) * levels_[level].count;
+    }
 
   private:
     friend class TextureMemory;
@@ -92,7 +107,8 @@ class Texture {
         std::array<int, 4> size{1, 1, 1, 1};
         size_t count = 0;                 // texels per face
         std::vector<Rgba8> texels8;       // faces × count (8-bit formats)
-        std::vector<glm::vec4> texelsF;   // faces × count (float formats)
+        std::vector<glm::vec4> texelsF;   // faces × count (RGBA16F, RGBA32F)
+        std::vector<float> texelsR;       // faces × count (R16F, R32F, depth formats)
         std::array<bool, 6> uploaded{};
     };
     struct Pool;
@@ -106,6 +122,7 @@ class Texture {
     int dims_ = 2, faces_ = 1;
     uint64_t bytes_ = 0;
     bool renderTarget_ = false;
+    bool singleChannel_ = false;
     std::vector<Level> levels_;
     std::shared_ptr<Pool> pool_;
 };
