@@ -13,11 +13,19 @@
 // fits int32 (|S'| ≤ 2^23, Σ lw = 256). Adding the biases back in wrapping 32-bit
 // arithmetic gives the unbiased sum, below 2^32, before the final shift. Integer sums are
 // exact, so the order of the taps does not matter.
+//
+// Each kernel exists twice: SSE2 (any x86-64) and AVX2, chosen when compiled (haveAvx2,
+// allowAvx2Kernels). The AVX2 twin runs s and t through one 8-lane register for the tap
+// indices and weights, and the taps of two pixels through one 256-bit pmaddwd; its float
+// operations are the SSE2 ones lane for lane and its integer sums the same sums, so both
+// give the same bytes (tests/texunit runs the randomized comparisons under each).
 #include "filter_quad.h"
 
 #include <emmintrin.h>
+#include <immintrin.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 
 #include "addressing.h"
@@ -251,15 +259,13 @@ template <Target kTarget>
 
 // Phase 1 of a kernel: everything that depends on the coordinates and the texture's
 // shape but not on its texels — projection, λ, level choice, tap indices and weights.
+// The level part of phase 1, from the projected coordinates: tap indices and weights per
+// level used, and the fetch count.
 template <Target kTarget, Addr kS, Addr kT>
-[[gnu::always_inline]] inline uint64_t prepareQuad(const QuadSampler& qs,
-                                                   const std::array<glm::vec4, 4>& in,
-                                                   QuadFootprint& fp) {
+[[gnu::always_inline]] inline uint64_t prepareLevels(const QuadSampler& qs, LevelChoice ch,
+                                                     __m128 s, __m128 t, __m128i face4,
+                                                     QuadFootprint& fp) {
     constexpr bool kTwoD = kTarget != Target::OneD;
-    __m128 s, t;
-    int face[4];
-    __m128i face4;
-    const LevelChoice ch = projectQuad<kTarget>(qs, in, s, t, face, face4);
     fp.ch = ch;
     auto store = [](int32_t* dst, __m128i v) {
         _mm_store_si128(reinterpret_cast<__m128i*>(dst), v);
@@ -299,6 +305,16 @@ template <Target kTarget, Addr kS, Addr kT>
         (ch.filter == FilterMode::Linear ? (kTwoD ? 4 : 2) : 1) * uint64_t(nLevels);
     fp.fetches = perPixel * 4;
     return fp.fetches;
+}
+template <Target kTarget, Addr kS, Addr kT>
+[[gnu::always_inline]] inline uint64_t prepareQuad(const QuadSampler& qs,
+                                                   const std::array<glm::vec4, 4>& in,
+                                                   QuadFootprint& fp) {
+    __m128 s, t;
+    int face[4];
+    __m128i face4;
+    const LevelChoice ch = projectQuad<kTarget>(qs, in, s, t, face, face4);
+    return prepareLevels<kTarget, kS, kT>(qs, ch, s, t, face4, fp);
 }
 
 // Phase 2: the texels and their exactly rounded weighted sum, from the level data of the
@@ -351,6 +367,240 @@ template <bool kTwoD>
         _mm_unpacklo_epi32(load4(d0 + fp.i00[0][2]), load4(d0 + fp.i00[0][3])));
 }
 
+// ---- AVX2: the four pixels of a quad in two 256-bit registers ------------------------
+// The same integer sums as gatherQuad (so the same bytes: integer arithmetic is exact and
+// the operands are identical), arranged for width instead of per pixel: the taps of pixels
+// 0 and 2 go through the lanes of one register (128-bit lane 0: pixel 0, lane 1: pixel 2)
+// and those of pixels 1 and 3 through another, so one pmaddwd weighs a row pair of two
+// pixels, all four channels. Chosen at run time (haveAvx2), as the rasterizer's spans.
+#define RG_AVX2 __attribute__((target("avx2")))
+
+bool haveAvx2() {
+    static const bool has = __builtin_cpu_supports("avx2");
+    return has;
+}
+}  // namespace
+std::atomic<bool> avx2Allowed{true};  // allowAvx2Kernels (texture_units.h)
+namespace {
+
+// Per-pixel int32 values of an aligned [4] array, pixel p's value repeated over the four
+// 32-bit lanes of its half: (v0 ×4 | v2 ×4) in `even`, (v1 ×4 | v3 ×4) in `odd`.
+RG_AVX2 inline void spreadPixels(const int32_t* v, __m256i& even, __m256i& odd) {
+    const __m256i x = _mm256_castsi128_si256(_mm_load_si128(reinterpret_cast<const __m128i*>(v)));
+    even = _mm256_permutevar8x32_epi32(x, _mm256_setr_epi32(0, 0, 0, 0, 2, 2, 2, 2));
+    odd = _mm256_permutevar8x32_epi32(x, _mm256_setr_epi32(1, 1, 1, 1, 3, 3, 3, 3));
+}
+// (a0 b0 a1 b1 a2 b2 a3 b3) from int16 lanes (a0..a3 b0..b3) in each 128-bit lane: the
+// interleaveHalves of gatherQuad.
+RG_AVX2 inline __m256i interleaveHalves8(__m256i p) {
+    const __m256i m = _mm256_setr_epi8(0, 1, 8, 9, 2, 3, 10, 11, 4, 5, 12, 13, 6, 7, 14, 15, 0,
+                                       1, 8, 9, 2, 3, 10, 11, 4, 5, 12, 13, 6, 7, 14, 15);
+    return _mm256_shuffle_epi8(p, m);
+}
+struct Lanes8 {
+    __m256i even, odd;  // int32 per channel: pixels 0 | 2 and 1 | 3
+};
+// Σ wx·(t − 128) over taps a (weight 256 − α) and b (weight α) of each pixel: R − 2^15
+// per channel (pairBiased for four pixels). `we`/`wo`: spreadPixels of the weight pairs.
+[[gnu::always_inline]] RG_AVX2 inline Lanes8 rowPairs8(const Rgba8* d, const int32_t* ia, const int32_t* ib,
+                                __m256i we, __m256i wo) {
+    // Texels (a0 b0 a1 b1 | a2 b2 a3 b3), loaded one by one: vpgatherdd measured slower
+    // than eight scalar loads (AMD EPYC, tex_bilinear_2d: the sampler 28 → 31 % of the
+    // frame).
+    auto two = [&](int p) {
+        return _mm_unpacklo_epi32(load4(d + ia[p]), load4(d + ib[p]));
+    };
+    const __m256i g = _mm256_set_m128i(_mm_unpacklo_epi64(two(2), two(3)),
+                                       _mm_unpacklo_epi64(two(0), two(1)));
+    // Per channel the int16 pair (a, b), zero-extended: pixel 0 | 2, then pixel 1 | 3.
+    const __m256i z = _mm256_setr_epi8(0, -1, 4, -1, 1, -1, 5, -1, 2, -1, 6, -1, 3, -1, 7, -1,
+                                       0, -1, 4, -1, 1, -1, 5, -1, 2, -1, 6, -1, 3, -1, 7, -1);
+    const __m256i zo = _mm256_setr_epi8(8, -1, 12, -1, 9, -1, 13, -1, 10, -1, 14, -1, 11, -1, 15,
+                                        -1, 8, -1, 12, -1, 9, -1, 13, -1, 10, -1, 14, -1, 11,
+                                        -1, 15, -1);
+    const __m256i k128 = _mm256_set1_epi16(128);
+    const __m256i te = _mm256_sub_epi16(_mm256_shuffle_epi8(g, z), k128);
+    const __m256i to = _mm256_sub_epi16(_mm256_shuffle_epi8(g, zo), k128);
+    return {_mm256_madd_epi16(te, we), _mm256_madd_epi16(to, wo)};
+}
+// The bilinear sums S − 2^23 per channel of one level (bilinearBiased for four pixels).
+[[gnu::always_inline]] RG_AVX2 inline Lanes8 bilinear8(const Rgba8* d, const QuadFootprint& fp, int li) {
+    __m256i wxe, wxo, wye, wyo;
+    spreadPixels(fp.wx[li], wxe, wxo);
+    spreadPixels(fp.wy[li], wye, wyo);
+    const Lanes8 r0 = rowPairs8(d, fp.i00[li], fp.i01[li], wxe, wxo);
+    const Lanes8 r1 = rowPairs8(d, fp.i10[li], fp.i11[li], wxe, wxo);
+    return {_mm256_madd_epi16(interleaveHalves8(_mm256_packs_epi32(r0.even, r1.even)), wye),
+            _mm256_madd_epi16(interleaveHalves8(_mm256_packs_epi32(r0.odd, r1.odd)), wyo)};
+}
+// finishBilinearBlend lane for lane (24 weight bits, S' split into int16 halves).
+RG_AVX2 inline __m256i bilinearBlend8(__m256i s0, __m256i s1, __m256i w) {
+    const __m256i m = _mm256_set1_epi32(255);
+    const __m256i hi = _mm256_packs_epi32(_mm256_srai_epi32(s0, 8), _mm256_srai_epi32(s1, 8));
+    const __m256i lo = _mm256_packs_epi32(_mm256_and_si256(s0, m), _mm256_and_si256(s1, m));
+    const __m256i sum =
+        _mm256_add_epi32(_mm256_slli_epi32(_mm256_madd_epi16(interleaveHalves8(hi), w), 8),
+                         _mm256_madd_epi16(interleaveHalves8(lo), w));
+    return _mm256_srli_epi32(_mm256_add_epi32(sum, _mm256_set1_epi32(int32_t(0x80800000u))),
+                             24);
+}
+// finishPairBlend lane for lane (16 weight bits).
+RG_AVX2 inline __m256i pairBlend8(__m256i r0, __m256i r1, __m256i w) {
+    const __m256i s = _mm256_madd_epi16(interleaveHalves8(_mm256_packs_epi32(r0, r1)), w);
+    return _mm256_srai_epi32(_mm256_add_epi32(s, _mm256_set1_epi32((1 << 23) + (1 << 15))), 16);
+}
+// int32 lanes in [0, 255] of pixels 0 | 2 and 1 | 3 → 16 bytes, pixel p in bytes 4p..4p+3.
+RG_AVX2 inline __m128i packQuad8(const Lanes8& v) {
+    __m256i p = _mm256_packs_epi32(v.even, v.odd);  // (0 1 | 2 3) as int16
+    p = _mm256_packus_epi16(p, p);                  // (0 1 0 1 | 2 3 2 3) as bytes
+    return _mm256_castsi256_si128(_mm256_permute4x64_epi64(p, _MM_SHUFFLE(2, 0, 2, 0)));
+}
+
+// prepareLevels for LINEAR with s in lanes 0–3 and t in lanes 4–7 of one register: the
+// same float operations lane for lane (subTexel4), the same integer results.
+template <Addr kA>
+RG_AVX2 inline __m256i address8(__m256i i, __m256i top) {
+    if constexpr (kA == Addr::Edge)
+        return _mm256_min_epi32(_mm256_max_epi32(i, _mm256_setzero_si256()), top);
+    else
+        return _mm256_and_si256(i, top);
+}
+template <Addr kS, Addr kT>
+RG_AVX2 inline __m256i address8(__m256i i, __m256i top) {
+    if constexpr (kS == kT)
+        return address8<kS>(i, top);
+    else
+        return _mm256_blend_epi32(address8<kS>(i, top), address8<kT>(i, top), 0xf0);
+}
+template <Target kTarget, Addr kS, Addr kT>
+[[gnu::always_inline]] RG_AVX2 inline uint64_t prepareLevelsAvx2(const QuadSampler& qs,
+                                                                 LevelChoice ch, __m128 s,
+                                                                 __m128 t, __m128i face4,
+                                                                 QuadFootprint& fp) {
+    if (ch.filter != FilterMode::Linear)
+        return prepareLevels<kTarget, kS, kT>(qs, ch, s, t, face4, fp);
+    constexpr bool kTwoD = kTarget != Target::OneD;
+    fp.ch = ch;
+    auto store = [](int32_t* dst, __m128i v) {
+        _mm_store_si128(reinterpret_cast<__m128i*>(dst), v);
+    };
+    __m256 c = _mm256_set_m128(t, s);
+    c = _mm256_and_ps(c, _mm256_cmp_ps(c, c, _CMP_ORD_Q));
+    const int nLevels = ch.blend ? 2 : 1;
+    for (int li = 0; li < nLevels; ++li) {
+        const LevelView& L = qs.level[size_t(li == 0 ? ch.level0 : ch.level1)];
+        const int32_t h = kTwoD ? L.height : 1;
+        // subTexel4 on both axes.
+        __m256 u = _mm256_mul_ps(
+            c, _mm256_setr_ps(float(L.width), float(L.width), float(L.width), float(L.width),
+                              float(h), float(h), float(h), float(h)));
+        u = _mm256_and_ps(u, _mm256_cmp_ps(u, u, _CMP_ORD_Q));
+        u = _mm256_min_ps(_mm256_max_ps(u, _mm256_set1_ps(-4194304.0f)),
+                          _mm256_set1_ps(4194304.0f));
+        const __m256 v = _mm256_mul_ps(u, _mm256_set1_ps(float(1 << kSubTexelBits)));
+        __m256i sub = _mm256_cvttps_epi32(v);
+        sub = _mm256_add_epi32(
+            sub, _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(sub), v, _CMP_GT_OQ)));
+        // linearLanes on both axes.
+        sub = _mm256_sub_epi32(sub, _mm256_set1_epi32(1 << (kSubTexelBits - 1)));
+        const __m256i b = _mm256_srai_epi32(sub, kSubTexelBits);
+        const __m256i frac = _mm256_and_si256(sub, _mm256_set1_epi32((1 << kSubTexelBits) - 1));
+        const __m256i top = _mm256_setr_epi32(L.width - 1, L.width - 1, L.width - 1,
+                                              L.width - 1, h - 1, h - 1, h - 1, h - 1);
+        const __m256i i0 = address8<kS, kT>(b, top);
+        const __m256i i1 = address8<kS, kT>(_mm256_add_epi32(b, _mm256_set1_epi32(1)), top);
+        const __m256i w =
+            _mm256_or_si256(_mm256_slli_epi32(frac, 16),
+                            _mm256_sub_epi32(_mm256_set1_epi32(1 << kSubTexelBits), frac));
+        const __m128i faceBase =
+            kTarget == Target::Cube
+                ? _mm_mullo_epi32(face4, _mm_set1_epi32(int32_t(L.faceStride)))
+                : _mm_setzero_si128();
+        const __m128i x0 = _mm256_castsi256_si128(i0), x1 = _mm256_castsi256_si128(i1);
+        store(fp.wx[li], _mm256_castsi256_si128(w));
+        if constexpr (kTwoD) {
+            const __m128i wv = _mm_set1_epi32(L.width);
+            const __m128i row0 =
+                _mm_add_epi32(faceBase, _mm_mullo_epi32(_mm256_extracti128_si256(i0, 1), wv));
+            const __m128i row1 =
+                _mm_add_epi32(faceBase, _mm_mullo_epi32(_mm256_extracti128_si256(i1, 1), wv));
+            store(fp.i00[li], _mm_add_epi32(row0, x0));
+            store(fp.i01[li], _mm_add_epi32(row0, x1));
+            store(fp.i10[li], _mm_add_epi32(row1, x0));
+            store(fp.i11[li], _mm_add_epi32(row1, x1));
+            store(fp.wy[li], _mm256_extracti128_si256(w, 1));
+        } else {
+            store(fp.i00[li], _mm_add_epi32(faceBase, x0));
+            store(fp.i01[li], _mm_add_epi32(faceBase, x1));
+        }
+    }
+    fp.fetches = uint64_t(kTwoD ? 4 : 2) * uint64_t(nLevels) * 4;
+    return fp.fetches;
+}
+template <Target kTarget, Addr kS, Addr kT>
+[[gnu::always_inline]] RG_AVX2 inline uint64_t prepareQuadAvx2(
+    const QuadSampler& qs, const std::array<glm::vec4, 4>& in, QuadFootprint& fp) {
+    __m128 s, t;
+    int face[4];
+    __m128i face4;
+    const LevelChoice ch = projectQuad<kTarget>(qs, in, s, t, face, face4);
+    return prepareLevelsAvx2<kTarget, kS, kT>(qs, ch, s, t, face4, fp);
+}
+
+// One level's sums of the four pixels: S − 2^23 (2D) or R − 2^15 (1D) per channel.
+template <bool kTwoD>
+[[gnu::always_inline]] RG_AVX2 inline Lanes8 levelSums8(const Rgba8* d, const QuadFootprint& fp,
+                                                        int li) {
+    if constexpr (kTwoD) {
+        return bilinear8(d, fp, li);
+    } else {
+        __m256i we, wo;
+        spreadPixels(fp.wx[li], we, wo);
+        return rowPairs8(d, fp.i00[li], fp.i01[li], we, wo);
+    }
+}
+template <bool kTwoD>
+[[gnu::always_inline]] RG_AVX2 inline __m128i gatherQuadAvx2(const QuadSampler& qs, const QuadFootprint& fp) {
+    const LevelChoice& ch = fp.ch;
+    if (ch.filter != FilterMode::Linear) return gatherQuad<kTwoD>(qs, fp);
+    const Lanes8 a = levelSums8<kTwoD>(qs.level[size_t(ch.level0)].data, fp, 0);
+    if (ch.blend) {
+        const Lanes8 b = levelSums8<kTwoD>(qs.level[size_t(ch.level1)].data, fp, 1);
+        const __m256i w = _mm256_set1_epi32(int32_t((uint32_t(ch.frac) << 16) | uint32_t(256 - ch.frac)));
+        if constexpr (kTwoD)
+            return packQuad8({bilinearBlend8(a.even, b.even, w), bilinearBlend8(a.odd, b.odd, w)});
+        else
+            return packQuad8({pairBlend8(a.even, b.even, w), pairBlend8(a.odd, b.odd, w)});
+    }
+    if constexpr (kTwoD) {
+        const __m256i r = _mm256_set1_epi32((1 << 23) + (1 << 15));
+        return packQuad8({_mm256_srai_epi32(_mm256_add_epi32(a.even, r), 16),
+                          _mm256_srai_epi32(_mm256_add_epi32(a.odd, r), 16)});
+    } else {
+        const __m256i r = _mm256_set1_epi32(32768 + 128);
+        return packQuad8({_mm256_srai_epi32(_mm256_add_epi32(a.even, r), 8),
+                          _mm256_srai_epi32(_mm256_add_epi32(a.odd, r), 8)});
+    }
+}
+
+template <Target kTarget, Addr kS, Addr kT>
+RG_AVX2 uint64_t sampleQuadKernelAvx2(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
+                                      __m128i& out) {
+    QuadFootprint fp;
+    const uint64_t n = prepareQuadAvx2<kTarget, kS, kT>(qs, in, fp);
+    out = gatherQuadAvx2<kTarget != Target::OneD>(qs, fp);
+    return n;
+}
+template <Target kTarget, Addr kS, Addr kT>
+RG_AVX2 uint64_t prepareKernelAvx2(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
+                                   QuadFootprint& fp) {
+    return prepareQuadAvx2<kTarget, kS, kT>(qs, in, fp);
+}
+template <bool kTwoD>
+RG_AVX2 __m128i gatherKernelAvx2(const QuadSampler& qs, const QuadFootprint& fp) {
+    return gatherQuadAvx2<kTwoD>(qs, fp);
+}
+
 template <Target kTarget, Addr kS, Addr kT>
 uint64_t sampleQuadKernel(const QuadSampler& qs, const std::array<glm::vec4, 4>& in,
                           __m128i& out) {
@@ -379,9 +629,15 @@ Addr addrOf(AddressMode m) {
 
 template <Target kTarget, Addr kS, Addr kT>
 void setKernels(QuadSampler& q) {
-    q.fn = &sampleQuadKernel<kTarget, kS, kT>;
-    q.prepare = &prepareKernel<kTarget, kS, kT>;
-    q.gather = &gatherKernel<kTarget != Target::OneD>;
+    if (haveAvx2() && avx2Allowed.load(std::memory_order_relaxed)) {
+        q.prepare = &prepareKernelAvx2<kTarget, kS, kT>;
+        q.fn = &sampleQuadKernelAvx2<kTarget, kS, kT>;
+        q.gather = &gatherKernelAvx2<kTarget != Target::OneD>;
+    } else {
+        q.prepare = &prepareKernel<kTarget, kS, kT>;
+        q.fn = &sampleQuadKernel<kTarget, kS, kT>;
+        q.gather = &gatherKernel<kTarget != Target::OneD>;
+    }
 }
 template <Target kTarget>
 void pick(QuadSampler& q, Addr s, Addr t) {
@@ -465,3 +721,9 @@ QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool pro
 }
 
 }  // namespace rg::tex::detail
+
+namespace rg::tex {
+void allowAvx2Kernels(bool allowed) {
+    detail::avx2Allowed.store(allowed, std::memory_order_relaxed);
+}
+}  // namespace rg::tex

@@ -315,7 +315,7 @@ TEST(TextureUnits, ShadeQuadFastMatchesReferenceUnderRandomStates) {
 // clamps that reach magnification, both blended levels and the last level; plus the states
 // that must fall back to the generic path (MIRROR, BORDER, CLAMP, WRAP on a
 // non-power-of-two extent, colour tables). Bytes and texel-fetch counts must agree.
-TEST(TextureUnits, CompiledSamplersMatchReferenceOnEveryKernelAndTheFallback) {
+void compiledSamplersAgainstReference() {
     const Profile& g8 = profile(ProfileId::GeForce8800);  // allows non-power-of-two sizes
     auto mem = std::make_shared<TextureMemory>(g8);
     auto texel = [](int l, int f, int x, int y, int, int) {
@@ -398,7 +398,7 @@ TEST(TextureUnits, CompiledSamplersMatchReferenceOnEveryKernelAndTheFallback) {
 // Stages that read the same coordinate set through textures of the same shape with the
 // same sampler share one footprint on the fast path (the PEM viewer's two cube maps under
 // BLENDFACTORALPHA); near misses (another sampler, another shape, another set) must not.
-TEST(TextureUnits, SharedFootprintsMatchReference) {
+void sharedFootprintsAgainstReference() {
     const Profile& g8 = profile(ProfileId::GeForce8800);
     auto mem = std::make_shared<TextureMemory>(g8);
     auto texels = [](uint32_t seed) {
@@ -460,6 +460,26 @@ TEST(TextureUnits, SharedFootprintsMatchReference) {
             ASSERT_EQ(ref, fast) << "state " << stateI << " quad " << k << " (seed 31)";
         }
         ASSERT_EQ(refFetches, fastFetches) << "state " << stateI;
+    }
+}
+
+// Both instruction sets of the compiled samplers: AVX2 (when the CPU has it) and SSE2.
+TEST(TextureUnits, CompiledSamplersMatchReferenceOnEveryKernelAndTheFallback) {
+    for (bool avx2 : {true, false}) {
+        SCOPED_TRACE(avx2 ? "AVX2 kernels allowed" : "SSE2 kernels");
+        allowAvx2Kernels(avx2);
+        compiledSamplersAgainstReference();
+        allowAvx2Kernels(true);
+        if (HasFatalFailure()) return;
+    }
+}
+TEST(TextureUnits, SharedFootprintsMatchReference) {
+    for (bool avx2 : {true, false}) {
+        SCOPED_TRACE(avx2 ? "AVX2 kernels allowed" : "SSE2 kernels");
+        allowAvx2Kernels(avx2);
+        sharedFootprintsAgainstReference();
+        allowAvx2Kernels(true);
+        if (HasFatalFailure()) return;
     }
 }
 

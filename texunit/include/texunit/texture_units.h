@@ -67,6 +67,11 @@ struct TextureCounters {
     uint64_t uploadBytes = 0;
 };
 
+// The fast path's compiled samplers use AVX2 where the CPU has it (the same bytes as
+// their SSE2 twins); tests lower this to check the SSE2 kernels too. Applies to samplers
+// compiled afterwards (the TextureUnits setters compile them).
+void allowAvx2Kernels(bool allowed);
+
 class TextureUnits {
   public:
     // ---- called by the rasterizer ----------------------------------------------------
