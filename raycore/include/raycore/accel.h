@@ -76,17 +76,18 @@ class Accel {
     glm::vec3 offsetOrigin(const SurfacePoint& s, glm::vec3 dir) const;
 
   private:
-    // Shading attributes interleaved per vertex: resolving a hit touches three vertices,
-    // and with normal and uv side by side that is three cache lines, not six.
-    struct VertexAttributes {
-        glm::vec3 normal;
-        glm::vec2 uv;
+    // Everything resolving a hit reads, one 64-byte cache line per triangle: the three
+    // vertex normals and uvs and the part. Per vertex (sharing) it was an index line plus
+    // up to three vertex lines per hit — cache misses for incoherent rays.
+    struct alignas(64) TriangleShading {
+        glm::vec3 normal[3];
+        glm::vec2 uv[3];
+        uint32_t part;
     };
+    static_assert(sizeof(TriangleShading) == 64);
     struct WorldMesh {
-        std::vector<VertexAttributes> vertices;
-        std::vector<uint32_t> indices;
+        std::vector<TriangleShading> triangles;
         std::vector<glm::vec3> faceNormals;  // unit geometric normal per triangle, world space
-        std::vector<uint32_t> partStarts;  // first triangle of each part (few, stays cached)
         const Material* material = nullptr;
     };
     const Scene& scene_;
