@@ -176,7 +176,8 @@ Scene parseSceneJson(const std::string& text, const std::filesystem::path& baseD
     };
     if (root.contains("environment")) {
         const json& e = root["environment"];
-        checkKeys(c, e, "environment", {"type", "color", "zenith", "horizon", "ground", "file", "intensity"});
+        checkKeys(c, e, "environment",
+                  {"type", "color", "zenith", "horizon", "ground", "file", "intensity", "rotate"});
         Environment& env = scene.environment;
         std::string type = stringOr(c, e, "type", "constant", "environment");
         env.color = vec3Or(c, e, "color", env.color, "environment");
@@ -184,13 +185,24 @@ Scene parseSceneJson(const std::string& text, const std::filesystem::path& baseD
         env.horizon = vec3Or(c, e, "horizon", env.horizon, "environment");
         env.ground = vec3Or(c, e, "ground", env.ground, "environment");
         env.intensity = floatOr(c, e, "intensity", 1.0f, "environment");
+        env.rotateDegrees = floatOr(c, e, "rotate", 0.0f, "environment");
+        if (!(env.intensity >= 0.0f)) c.fail("environment.intensity must be ≥ 0");
         if (type == "constant") env.kind = EnvironmentKind::Constant;
         else if (type == "gradient") env.kind = EnvironmentKind::Gradient;
         else if (type == "image") {
             env.kind = EnvironmentKind::Image;
             env.path = stringOr(c, e, "file", "", "environment");
             if (env.path.empty()) c.fail("environment of type image needs a file");
-            env.image = std::make_shared<Image>(readImage(c.resolve(env.path)));
+            // "blender:NAME": one of the CC0 worlds of Debian's blender-data (scene.h).
+            const std::string prefix = "blender:";
+            try {
+                const std::filesystem::path file = env.path.rfind(prefix, 0) == 0
+                                                       ? blenderWorldPath(env.path.substr(prefix.size()))
+                                                       : c.resolve(env.path);
+                env.image = std::make_shared<Image>(readEnvironmentImage(file));
+            } catch (const Error& err) {
+                c.fail(std::string("environment: ") + err.what());
+            }
         } else c.fail("environment: unknown type '" + type + "' (constant, gradient, image)");
     }
     for (size_t i = 0; i < arrayOf("textures").size(); ++i) {
@@ -362,6 +374,7 @@ std::string sceneToJson(const Scene& scene) {
             break;
         case EnvironmentKind::Image:
             env = {{"type", "image"}, {"file", e.path}, {"intensity", e.intensity}};
+            if (e.rotateDegrees != 0.0f) env["rotate"] = e.rotateDegrees;
             break;
     }
     root["environment"] = env;

@@ -28,12 +28,34 @@ struct Environment {
     glm::vec3 zenith{0.3f, 0.5f, 0.9f};          // Gradient: +y, horizon and −y colours
     glm::vec3 horizon{0.9f, 0.9f, 0.95f};
     glm::vec3 ground{0.25f, 0.22f, 0.2f};
-    std::string path;                            // Image: equirectangular (lat-long) file
+    std::string path;                            // Image: equirectangular (lat-long) file,
+                                                 // as written in the scene ("blender:forest")
     float intensity = 1.0f;                      // Image: scale
+    float rotateDegrees = 0.0f;                  // Image: turn about +y (below)
     std::shared_ptr<const Image> image;
 
+    // Image orientation (docs/scene-format.md): a unit direction d reads the image at
+    //     u = 1/2 + atan2(d.x, −d.z) / 2π      (the centre column is seen along −z,
+    //     v = acos(d.y) / π                      three quarters of the width along +x)
+    // bilinearly, u wrapping and v clamped (v = 0, the top row, is straight up), after
+    // turning d by −rotateDegrees about +y: with rotateDegrees = a, what was seen along −z
+    // is seen along (−sin a, 0, −cos a).
     glm::vec3 lookup(glm::vec3 dir) const;
 };
+
+// The CC0 equirectangular worlds of Debian's blender-data package (studiolights/world:
+// city, courtyard, forest, interior, night, studio, sunrise, sunset; 1024×512 EXR). The
+// folder is /usr/share/blender/datafiles/studiolights/world unless the environment
+// variable RETROGLASS_BLENDER_WORLDS names another.
+std::filesystem::path blenderWorldDir();
+// "forest" → the path of forest.exr there. Raises rg::Error naming the package to install
+// when the folder is missing, and listing the names present when `name` is not one.
+std::filesystem::path blenderWorldPath(const std::string& name);
+// Reads an equirectangular environment image: rg::Error naming the file and the texel when
+// it cannot be read or holds a NaN or infinite value (a ray tracer would spread it).
+// Negative values are set to 0: HDR photographs carry slightly negative texels from colour
+// conversion (blender-data's worlds down to −0.004), and radiance cannot be negative.
+Image readEnvironmentImage(const std::filesystem::path& path);
 
 struct PointLight {
     std::string name;
