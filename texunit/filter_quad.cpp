@@ -30,6 +30,7 @@
 
 #include "addressing.h"
 #include "cube_select.h"
+#include "stage_arith.h"
 
 namespace rg::tex::detail {
 
@@ -619,6 +620,47 @@ __m128i gatherKernel(const QuadSampler& qs, const QuadFootprint& fp) {
     return gatherQuad<kTwoD>(qs, fp);
 }
 
+// ---- whole cascades ---------------------------------------------------------------------
+// One sampled stage of a cascade: the sampler of kind (kT, kS, kU) inlined, then the
+// stage's MODULATE/MODULATE arithmetic (quad::evaluate, as shadeQuad's general loop).
+template <Target kT, Addr kS, Addr kU>
+[[gnu::always_inline]] RG_AVX2 inline uint64_t cascadeStage(const CompiledStages& c, int i,
+                                                            const FragmentQuad& q,
+                                                            quad::Regs& r) {
+    const QuadSampler& qs = c.stage[size_t(i)];
+    const StageState& st = c.state[size_t(i)];
+    QuadFootprint fp;
+    const uint64_t n = prepareQuadAvx2<kT, kS, kU>(qs, q.texCoord[st.texCoordIndex], fp);
+    r[arg::Texture] = gatherQuadAvx2<kT != Target::OneD>(qs, fp);
+    r[arg::Current] = quad::evaluate<TextureOp::Modulate, TextureOp::Modulate>(st, r);
+    return n;
+}
+[[gnu::always_inline]] inline quad::Regs cascadeInputs(const FragmentQuad& q, __m128i tfactor) {
+    quad::Regs r;
+    r[arg::Diffuse] = quad::loadPixels(q.diffuse);
+    r[arg::Specular] = quad::loadPixels(q.specular);
+    r[arg::Current] = r[arg::Diffuse];
+    r[arg::TFactor] = tfactor;
+    return r;
+}
+template <Target kT, Addr kS, Addr kU>
+RG_AVX2 uint64_t cascadeOne(const CompiledStages& c, const FragmentQuad& q, __m128i tfactor,
+                            __m128i& out) {
+    quad::Regs r = cascadeInputs(q, tfactor);
+    const uint64_t n = cascadeStage<kT, kS, kU>(c, 0, q, r);
+    out = r[arg::Current];
+    return n;
+}
+template <Target kT0, Addr kS0, Addr kU0, Target kT1, Addr kS1, Addr kU1>
+RG_AVX2 uint64_t cascadeTwo(const CompiledStages& c, const FragmentQuad& q, __m128i tfactor,
+                            __m128i& out) {
+    quad::Regs r = cascadeInputs(q, tfactor);
+    uint64_t n = cascadeStage<kT0, kS0, kU0>(c, 0, q, r);
+    n += cascadeStage<kT1, kS1, kU1>(c, 1, q, r);
+    out = r[arg::Current];
+    return n;
+}
+
 bool specialisable(AddressMode m, int n) {
     return m == AddressMode::ClampToEdge ||
            (m == AddressMode::Wrap && (n & (n - 1)) == 0);
@@ -655,6 +697,32 @@ void pick(QuadSampler& q, Addr s, Addr t) {
 }
 
 }  // namespace
+
+void compileCascade(CompiledStages& c, int active, uint32_t sampling) {
+    c.cascade = nullptr;
+    if (active < 1 || active > 2 || c.sharesFootprint != 0) return;
+    for (int i = 0; i < active; ++i) {
+        const StageState& st = c.state[size_t(i)];
+        if (!(sampling & (1u << i)) || !c.stage[size_t(i)].fn ||
+            quad::StageKernel(c.stageKernel[size_t(i)]) != quad::StageKernel::ModulateModulate ||
+            st.colorOp != TextureOp::Modulate || st.alphaOp != TextureOp::Modulate)
+            return;
+    }
+    const QuadSampleFn f0 = c.stage[0].fn;
+    if (active == 1) {
+        if (f0 == &sampleQuadKernelAvx2<Target::TwoD, Addr::Pow2, Addr::Pow2>)
+            c.cascade = &cascadeOne<Target::TwoD, Addr::Pow2, Addr::Pow2>;
+        else if (f0 == &sampleQuadKernelAvx2<Target::TwoD, Addr::Edge, Addr::Edge>)
+            c.cascade = &cascadeOne<Target::TwoD, Addr::Edge, Addr::Edge>;
+        else if (f0 == &sampleQuadKernelAvx2<Target::Cube, Addr::Edge, Addr::Edge>)
+            c.cascade = &cascadeOne<Target::Cube, Addr::Edge, Addr::Edge>;
+        return;
+    }
+    if (f0 == &sampleQuadKernelAvx2<Target::Cube, Addr::Edge, Addr::Edge> &&
+        c.stage[1].fn == &sampleQuadKernelAvx2<Target::OneD, Addr::Edge, Addr::Edge>)
+        c.cascade = &cascadeTwo<Target::Cube, Addr::Edge, Addr::Edge, Target::OneD, Addr::Edge,
+                                Addr::Edge>;
+}
 
 bool sameFootprint(const QuadSampler& a, const QuadSampler& b) {
     if (!a.fn || a.prepare != b.prepare || a.projected != b.projected ||

@@ -23,7 +23,9 @@
 #include "addressing.h"
 #include "core/color.h"
 #include "texunit/sampler.h"
+#include "texunit/stages.h"
 #include "texunit/texture.h"
+#include "texunit/texture_units.h"
 
 namespace rg::tex::detail {
 
@@ -77,6 +79,13 @@ struct QuadSampler {
 // two cube maps blended by BLENDFACTORALPHA are the case this is for.
 bool sameFootprint(const QuadSampler& a, const QuadSampler& b);
 
+struct CompiledStages;
+// The whole fast-path cascade of a quad in one function, for the commonest states
+// (compileCascade): the stages' samplers and arithmetic inlined into one body. Returns the
+// texel fetches; `out` as QuadSampleFn's.
+using CascadeFn = uint64_t (*)(const CompiledStages&, const FragmentQuad& quad,
+                               __m128i tfactor, __m128i& out);
+
 // The compiled samplers of all stages (TextureUnits holds one, rebuilt by its setters).
 struct CompiledStages {
     std::array<QuadSampler, 16> stage{};
@@ -85,7 +94,15 @@ struct CompiledStages {
     // Bit i: stage i reuses stage i − 1's footprint (same coordinate set, sameFootprint);
     // stage i − 1 then runs its kernel in two phases and keeps the footprint.
     uint32_t sharesFootprint = 0;
+    std::array<StageState, 16> state{};  // the stages' states (for `cascade`)
+    CascadeFn cascade = nullptr;         // null: TextureUnits::shadeQuad's general loop
 };
+
+// Sets c.cascade when the `active` stages (c.state, c.stage, c.stageKernel filled) are one
+// of the specialised combinations: every stage sampling through an AVX2 kernel, no
+// premodulation, no shared footprint, MODULATE colour and alpha — one 2D or cube stage
+// (GL MODULATE), or a cube stage then a 1D stage (the PEM pass).
+void compileCascade(CompiledStages& c, int active, uint32_t sampling);
 
 // Chooses the kernel for a stage's texture and sampler, or leaves fn null when the state
 // needs the generic path (float formats, 3D/4D, colour tables, other address modes).

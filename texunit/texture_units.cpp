@@ -165,6 +165,8 @@ void TextureUnits::refresh() {
             detail::sameFootprint(compiled->stage[size_t(i - 1)], compiled->stage[size_t(i)]))
             compiled->sharesFootprint |= 1u << i;
     }
+    for (int i = 0; i < active_; ++i) compiled->state[size_t(i)] = units_[size_t(i)].stage;
+    detail::compileCascade(*compiled, active_, sampling_);
     compiled_ = std::move(compiled);
 }
 
@@ -380,6 +382,13 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
         // The same cascade on SSE2 registers of four pixels (stage_arith.h, quad::), with
         // the compiled samplers where the state has one; fetches added once per quad.
         namespace q = detail::quad;
+        const detail::CompiledStages& compiled = *compiled_;
+        if (compiled.cascade) {
+            __m128i o;
+            fetches_->add(compiled.cascade(compiled, quad, q::splat(tfactor_), o));
+            q::store(out, o);
+            return;
+        }
         q::Regs r;
         r[arg::Diffuse] = q::loadPixels(quad.diffuse);
         r[arg::Specular] = q::loadPixels(quad.specular);
@@ -388,7 +397,6 @@ void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out
         __m128i premod = q::ones();
         bool havePremod = false;
         uint64_t fetched = 0;
-        const detail::CompiledStages& compiled = *compiled_;
         detail::QuadFootprint footprint;  // kept for the next stage when it shares it
         for (int i = 0; i < n; ++i) {
             const StageState& st = units_[size_t(i)].stage;

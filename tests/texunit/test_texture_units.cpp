@@ -483,6 +483,96 @@ TEST(TextureUnits, SharedFootprintsMatchReference) {
     }
 }
 
+// The whole-cascade functions of the fast path (filter_quad.cpp, compileCascade): one
+// MODULATE stage over a 2D texture (WRAP or CLAMP_TO_EDGE) or a cube map, and a cube stage
+// followed by a 1D stage (the PEM pass), with random arguments, modifiers, scales,
+// filters, mipmap modes and coordinate sets; plus near misses that must take the general
+// loop (another op, a third stage). Bytes and fetch counts against the reference, under
+// both instruction sets.
+void cascadesAgainstReference() {
+    const Profile& g8 = profile(ProfileId::GeForce8800);
+    auto mem = std::make_shared<TextureMemory>(g8);
+    auto texel = [](int l, int f, int x, int y, int, int) {
+        const uint32_t h = testing::hash32(uint32_t(((l * 5 + f) * 113 + x) * 733 + y));
+        return Rgba8{uint8_t(h), uint8_t(h >> 8), uint8_t(h >> 16), uint8_t(h >> 24)};
+    };
+    const std::shared_ptr<Texture> first[] = {
+        makeRgba8(*mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 32, 16, 1, 1, 6}, texel),
+        makeRgba8(*mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 16, 16, 1, 1, 1}, texel),
+        makeRgba8(*mem, {TextureTarget::CubeMap, TexelFormat::RGBA8, 16, 16, 1, 1, 5}, texel),
+        makeRgba8(*mem, {TextureTarget::CubeMap, TexelFormat::RGBA8, 8, 8, 1, 1, 1}, texel)};
+    const std::shared_ptr<Texture> fresnel =
+        makeRgba8(*mem, {TextureTarget::Texture1D, TexelFormat::RGBA8, 64, 1, 1, 1, 7}, texel);
+    Rng rng(4242);
+    auto sampler = [&](bool edge) {
+        SamplerState s;
+        const AddressMode m = edge ? AddressMode::ClampToEdge : AddressMode::Wrap;
+        s.address = {m, m, m, m};
+        s.magFilter = FilterMode(rng.below(2));
+        s.minFilter = FilterMode(rng.below(2));
+        s.mipFilter = MipMode(rng.below(3));
+        s.lodBias = rng.below(3) ? 0.0f : rng.uniform(-2, 2);
+        return s;
+    };
+    auto modulate = [&](int sets) {
+        StageState st = randomStage(rng, sets);
+        st.colorOp = st.alphaOp = TextureOp::Modulate;
+        if (rng.below(8) == 0) st.alphaOp = TextureOp::SelectArg1;  // a near miss
+        return st;
+    };
+    for (int stateI = 0; stateI < 400; ++stateI) {
+        TextureUnits tu;
+        const uint32_t kind = rng.below(4);
+        const bool cube = first[kind]->desc().target == TextureTarget::CubeMap;
+        tu.setTexture(0, first[kind]);
+        tu.setSampler(0, sampler(cube || rng.below(2) == 0));
+        tu.setStage(0, modulate(2));
+        const uint32_t stages = cube ? 1 + rng.below(2) + (rng.below(8) == 0 ? 1 : 0) : 1;
+        for (uint32_t i = 1; i < stages; ++i) {
+            tu.setTexture(int(i), fresnel);
+            tu.setSampler(int(i), sampler(rng.below(8) != 0));
+            tu.setStage(int(i), modulate(2));
+        }
+        tu.setTextureFactor({uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next())});
+        uint64_t refFetches = 0, fastFetches = 0;
+        for (int k = 0; k < 40; ++k) {
+            FragmentQuad q;
+            const float scale = rng.below(10) == 0 ? 0.0f : std::exp2(rng.uniform(-9, 2));
+            for (int set = 0; set < 2; ++set) {
+                glm::vec4 base(rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3), 1.0f);
+                glm::vec4 dx(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f);
+                glm::vec4 dy(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f);
+                for (int p = 0; p < 4; ++p)
+                    q.texCoord[size_t(set)][size_t(p)] = base + scale * (float(p & 1) * dx + float(p >> 1) * dy);
+            }
+            for (int p = 0; p < 4; ++p) {
+                q.diffuse[size_t(p)] = {uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()),
+                                        uint8_t(rng.next())};
+                q.specular[size_t(p)] = {uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()),
+                                         uint8_t(rng.next())};
+            }
+            std::array<Rgba8, 4> ref, fast;
+            tu.resetCounters();
+            tu.shadeQuad(q, ref, Path::Reference);
+            refFetches += tu.counters().texelFetches;
+            tu.resetCounters();
+            tu.shadeQuad(q, fast, Path::Fast);
+            fastFetches += tu.counters().texelFetches;
+            ASSERT_EQ(ref, fast) << "state " << stateI << " quad " << k << " (seed 4242)";
+        }
+        ASSERT_EQ(refFetches, fastFetches) << "state " << stateI;
+    }
+}
+TEST(TextureUnits, CascadesMatchReference) {
+    for (bool avx2 : {true, false}) {
+        SCOPED_TRACE(avx2 ? "AVX2 kernels allowed" : "SSE2 kernels");
+        allowAvx2Kernels(avx2);
+        cascadesAgainstReference();
+        allowAvx2Kernels(true);
+        if (HasFatalFailure()) return;
+    }
+}
+
 TEST(TextureUnits, TapQueryReproducesTheSampleAndItsWeightsSumToOne) {
     // The PEM set-up: stage 0 cube map MODULATE diffuse, stage 1 MODULATE by a 1D
     // Fresnel texture, trilinear, unnormalized cube coordinates per vertex.
