@@ -158,9 +158,9 @@ bool nearestTexels4(__m128 c, int n, bool wrap, __m128i& out) {
 
 }  // namespace
 
-Vec4x4 QuadContext::sampleLevel(int u, const Vec4x4& c, Float4 lod) {
+Vec4x4 QuadContext::sampleLevel(int u, const Vec4x4& c, Float4 lod, Mask4 m) {
     const detail::BoundUnit& b = unit(u);
-    const uint32_t lanes = active_ & ~discarded_;
+    const uint32_t lanes = active_ & ~discarded_ & m.bits();
     if (b.nearest.valid() && setup_->path == Path::Fast) {
         const detail::NearestFloat2D& n = b.nearest;
         __m128i xi, yi = _mm_setzero_si128();

@@ -666,3 +666,136 @@ TEST(ProgrammablePathsAgree, RandomDrawsGiveTheSameBytesOnBothPathsAndAnyThreadC
 
 }  // namespace
 }  // namespace rg::raster
+
+namespace rg::raster {
+namespace {
+
+// One algorithm written twice: per pixel (FragmentContext) and per quad (QuadContext).
+// Point-sampled RGBA32F (unit 0) and R32F (unit 1) textures, a filtered cube map (unit 2),
+// a data-dependent loop, discard and a masked write.
+struct TwinScalarFP {
+    static constexpr int kVaryings = 2;
+    static constexpr uint32_t kTargets = 3;
+    static constexpr uint32_t kUnits = 7;
+    static constexpr bool kWritesDepth = false;
+    void operator()(FragmentContext& f) const {
+        const glm::vec4 a = f.varying(0), b = f.varying(1);
+        if (a.w > 0.8f) {
+            f.discard();
+            return;
+        }
+        glm::vec4 acc = f.sampleLevel(0, a, 0.0f);
+        float t = 0.0f;
+        for (int i = 0; i < 6 && t < 2.0f; ++i) {  // a data-dependent number of steps
+            const float h = f.sampleLevel(1, glm::vec4(b.x + t, b.y - t, 0, 0), 0.0f).x;
+            t = t + std::max(h, 0.125f);
+        }
+        const glm::vec4 e = f.sampleLevel(2, b, 0.0f);
+        f.output(0, acc * t + e);
+        if (b.z > 0.5f) f.output(1, glm::vec4(t, std::min(a.x, b.x), a.y / b.w, 1.0f));
+    }
+};
+
+struct TwinQuadFP {
+    static constexpr int kVaryings = 2;
+    static constexpr uint32_t kTargets = 3;
+    static constexpr uint32_t kUnits = 7;
+    static constexpr bool kWritesDepth = false;
+    void operator()(QuadContext& q) const {
+        const Vec4x4 a = q.varying(0), b = q.varying(1);
+        q.discard(a.w > Float4(0.8f));
+        Vec4x4 acc = q.sampleLevel(0, a, Float4(0.0f));
+        Float4 t(0.0f);
+        Mask4 going = q.active();
+        for (int i = 0; i < 6; ++i) {
+            going = going & (t < Float4(2.0f));
+            if (!going.any()) break;
+            const Float4 h =
+                q.sampleLevel(1, Vec4x4(b.x + t, b.y - t, Float4(0.0f), Float4(0.0f)), Float4(0.0f), going).x;
+            t = select(going, t + max(h, Float4(0.125f)), t);
+        }
+        const Vec4x4 e = q.sampleLevel(2, b, Float4(0.0f));
+        q.output(0, acc * t + e);
+        q.output(1, Vec4x4(t, min(a.x, b.x), a.y / b.w, Float4(1.0f)), b.z > Float4(0.5f));
+    }
+};
+
+TEST(ProgrammablePathsAgree, QuadProgramEqualsItsScalarTwinOnBothPaths) {
+    const int W = 90, H = 70;
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Fixture fx;
+    auto makeTex = [&](TexelFormat f, TextureTarget target, int w, int h) {
+        TextureDesc d;
+        d.format = f;
+        d.target = target;
+        d.width = w;
+        d.height = h;
+        auto t = fx.memory->create(d);
+        for (int face = 0; face < t->faces(); ++face) {
+            std::vector<uint8_t> b(size_t(w) * h * formatInfo(f).bytesPerTexel);
+            for (size_t i = 0; i < b.size() / 4; ++i) {
+                const float v = (i % 11 == 0) ? -0.0f : u(rng) * 1.5f - 0.25f;
+                std::memcpy(&b[i * 4], &v, 4);
+            }
+            fx.memory->upload(*t, 0, face, b);
+        }
+        return t;
+    };
+    auto rgba = makeTex(TexelFormat::RGBA32F, TextureTarget::Texture2D, 32, 16);
+    auto red = makeTex(TexelFormat::R32F, TextureTarget::Texture2D, 24, 32);  // non-power-of-two WRAP in s
+    auto cube = makeTex(TexelFormat::RGBA32F, TextureTarget::CubeMap, 8, 8);
+    tex::SamplerState point;
+    point.magFilter = point.minFilter = tex::FilterMode::Nearest;
+    point.address[1] = tex::AddressMode::ClampToEdge;
+    std::vector<RandomVertex> verts;
+    for (int i = 0; i < 3 * 30; ++i) {
+        RandomVertex v;
+        const float w = 0.5f + u(rng);
+        v.position = glm::vec4((u(rng) * 2.4f - 1.2f) * w, (u(rng) * 2.4f - 1.2f) * w, 0.5f * w, w);
+        v.a = glm::vec4(u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng));
+        v.b = glm::vec4(u(rng) * 3 - 1, u(rng) * 3 - 1, u(rng), 0.5f + u(rng));
+        verts.push_back(v);
+    }
+    ProgramState st;
+    st.blend[1] = TargetBlend{1, BlendFactor::One, BlendFactor::One, BlendOp::Add, kWriteRGBA};
+    auto render = [&](bool quad, Path path, int threads, ProgramCounters& counters) {
+        auto t0 = fx.target(W, H, TexelFormat::RGBA16F);
+        auto t1 = fx.target(W, H, TexelFormat::RGBA32F);
+        ProgrammableDevice dev(g80(), DeviceOptions{path, threads});
+        ColorTarget cts[2] = {{t0}, {t1}};
+        dev.setRenderTargets(cts);
+        dev.setState(st);
+        dev.setTexture(0, rgba, point);
+        dev.setTexture(1, red, point);
+        dev.setTexture(2, cube, tex::SamplerState{});
+        if (quad)
+            dev.draw(RandomVP{}, TwinQuadFP{}, ProgramPrimitive::TriangleList, std::span<const RandomVertex>(verts));
+        else
+            dev.draw(RandomVP{}, TwinScalarFP{}, ProgramPrimitive::TriangleList, std::span<const RandomVertex>(verts));
+        counters = dev.counters();
+        return hashTargets({t0, t1}, W, H);
+    };
+    ProgramCounters ref, c;
+    const std::string want = render(false, Path::Reference, 1, ref);
+    // Pinned like the golden traces: the bytes must not move with the compiler or build type
+    // (tests/compilers.sh); a change of the emulated arithmetic updates it and says why.
+    EXPECT_EQ(want, "337dcfa0d4602c6f477773704768d84a808b68cbc82fe05f91e247258b4fdb08")
+        << "reproduce: build/bin/test_programmable --gtest_filter='*Twin*'";
+    EXPECT_GT(ref.fragmentsDiscarded, 0u);
+    EXPECT_GT(ref.fragmentsWritten, 0u);
+    for (bool quad : {false, true})
+        for (Path path : {Path::Reference, Path::Fast})
+            for (int threads : {1, 3}) {
+                EXPECT_EQ(render(quad, path, threads, c), want)
+                    << (quad ? "quad" : "scalar") << " program, " << (path == Path::Fast ? "fast" : "reference")
+                    << " path, " << threads << " threads";
+                EXPECT_EQ(c.fragmentInvocations, ref.fragmentInvocations);
+                EXPECT_EQ(c.textureFetches, ref.textureFetches);
+                EXPECT_EQ(c.maxFetchesPerFragment, ref.maxFetchesPerFragment);
+                EXPECT_EQ(c.fragmentsDiscarded, ref.fragmentsDiscarded);
+            }
+}
+
+}  // namespace
+}  // namespace rg::raster

@@ -146,8 +146,9 @@ class QuadContext {
     const Vec4x4& fragCoord() const { return fragCoord_; }
 
     // textureLod / SampleLevel per active lane (texunit/program_fetch.h); inactive lanes
-    // read zero.
-    Vec4x4 sampleLevel(int unit, const Vec4x4& c, Float4 lod);
+    // read zero. `m` narrows the lanes further, as divergent control flow does on the
+    // hardware: a lane that has left a loop fetches (and counts) nothing.
+    Vec4x4 sampleLevel(int unit, const Vec4x4& c, Float4 lod, Mask4 m = Mask4::fromBits(15));
 
     void discard(Mask4 m) { discarded_ |= m.bits() & active_; }
     void output(int target, const Vec4x4& color, Mask4 m = Mask4::fromBits(15)) {
