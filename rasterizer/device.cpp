@@ -111,6 +111,8 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             processed[i] = processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
     };
     auto processedAt = [&](uint32_t i) -> const ProcessedVertex& { return processed[i]; };
+    // The observer hook lives in the reference raster loop, which gets the reference setup.
+    const bool fastPath = options.path == Path::Fast && !dc.fragmentObserver;
     auto setupRange = [&](uint32_t b, uint32_t e, std::vector<SetupTriangle>& out,
                           std::vector<Plane>& texPool, GeometryCounters& gc, auto&& fetch) {
         out.reserve(out.size() + (e - b));
@@ -123,13 +125,16 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             const ProcessedVertex& pa = fetch(a);
             const ProcessedVertex& pb = fetch(bb);
             const ProcessedVertex& pc = fetch(c);
-            clipAndSetup(dc, pa, pb, pc, flatD, flatS, out, texPool, gc);
+            if (fastPath)
+                clipAndSetupFast(dc, pa, pb, pc, flatD, flatS, out, texPool, gc);
+            else
+                clipAndSetup(dc, pa, pb, pc, flatD, flatS, out, texPool, gc);
         }
     };
 
     GeometryCounters gc;
     RasterCounters rc;
-    if (options.path == Path::Reference || dc.fragmentObserver) {
+    if (!fastPath) {
         processRange(0, vertices.size());
         std::vector<SetupTriangle> tris;
         std::vector<Plane> texPool;

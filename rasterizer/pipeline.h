@@ -186,6 +186,19 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
                    const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
                    SetupTriangle& t, std::vector<Plane>& texPool);
 
+// The fast path's setup: the same SetupTriangle and texture planes as setupTriangle, bit
+// for bit, with the colour and texture planes four at a time in SIMD (setup_triangle.cpp);
+// appends the triangle to `out` unless it is culled (false).
+bool setupTriangleFast(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
+                       const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
+                       std::vector<SetupTriangle>& out, std::vector<Plane>& texPool);
+// clipAndSetup with setupTriangleFast for the triangles that need no clipping (clipped
+// ones take the reference setup: few, and the same bytes either way).
+void clipAndSetupFast(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
+                      const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
+                      std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
+                      GeometryCounters& gc);
+
 // ---- raster_reference.cpp / raster_tiles.cpp -------------------------------------------
 void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>& tris,
                         const std::vector<Plane>& texPool, RasterCounters& rc);
