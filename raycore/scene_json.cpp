@@ -5,6 +5,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <set>
@@ -444,7 +445,22 @@ void saveSceneJson(const Scene& scene, const std::filesystem::path& path) {
 Scene loadSceneByName(const std::string& fileOrName, std::vector<std::string>* warnings) {
     std::filesystem::path p(fileOrName);
     if (p.extension() == ".json" || std::filesystem::exists(p)) return loadSceneJson(p, warnings);
-    return makeBuiltinScene(fileOrName);
+    const std::vector<std::string> builtin = builtinSceneNames();
+    if (std::find(builtin.begin(), builtin.end(), fileOrName) != builtin.end())
+        return makeBuiltinScene(fileOrName);
+    // The scenes shipped in data/scenes/ by their stem: `--scene forest`.
+    const std::filesystem::path shipped = dataDir() / "scenes" / (fileOrName + ".json");
+    std::error_code ec;
+    if (fileOrName.find('/') == std::string::npos && std::filesystem::is_regular_file(shipped, ec))
+        return loadSceneJson(shipped, warnings);
+    std::string known;
+    for (const std::string& n : builtin) known += (known.empty() ? "" : ", ") + n;
+    std::set<std::string> files;  // sorted: the message does not depend on the file system
+    for (const auto& e : std::filesystem::directory_iterator(dataDir() / "scenes", ec))
+        if (e.path().extension() == ".json") files.insert(e.path().stem().string());
+    for (const std::string& n : files) known += ", " + n;
+    throw Error("unknown scene '" + fileOrName + "': not a file, a built-in scene or a scene in " +
+                (dataDir() / "scenes").lexically_normal().string() + " (known: " + known + ")");
 }
 
 }  // namespace rg::ray

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "raycore/raytrace_command.h"
 #include "raycore/scene.h"
 #include "raycore/scene_json.h"
 #include "test_util.h"
@@ -218,6 +219,36 @@ TEST(Environment, ForestExampleSceneLoads) {
     EXPECT_TRUE(warnings.empty()) << warnings.front();
     EXPECT_EQ(s.environment.kind, EnvironmentKind::Image);
     EXPECT_TRUE(s.environment.image);
+}
+
+// End to end: `retroglass raytrace --scene forest` finds data/scenes/forest.json by its
+// stem and renders it; rays missing every object see the forest, so the corner pixels
+// (which look over the floor into the trees) equal the environment along their rays.
+TEST(Environment, RaytraceRendersTheForestSceneByName) {
+    ASSERT_TRUE(std::filesystem::is_directory(blenderWorldDir()))
+        << "install Debian's blender-data package (apt-get install blender-data)";
+    auto dir = test::tempDir("env_forest_render");
+    RaytraceArgs a;
+    a.scene = "forest";
+    a.width = 32;
+    a.height = 24;
+    a.quiet = true;
+    a.out = (dir / "forest.exr").string();
+    ASSERT_EQ(runRaytraceCommand(a), 0);
+    const Image img = readImage(dir / "forest.exr");
+    Scene s = loadSceneByName("forest");
+    const Camera& cam = s.cameras[0];
+    const Ray r = primaryRay(cam, a.width, a.height, 0.5f, 0.5f);  // top-left pixel centre
+    expectNear(img.rgb(0, 0), s.environment.lookup(r.dir), 1e-5f, "top-left pixel");
+    EXPECT_GT(img.rgb(0, 0).y, 0.0f);
+    // An unknown name lists the shipped scenes beside the built-in ones.
+    try {
+        loadSceneByName("no-such-scene");
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("forest"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("teapot-in-room"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

@@ -22,7 +22,8 @@ Scene parseSceneJson(const std::string& text, const std::filesystem::path& baseD
 std::string sceneToJson(const Scene& scene);
 void saveSceneJson(const Scene& scene, const std::filesystem::path& path);
 
-// A built-in scene name or a .json file.
+// A .json file, a built-in scene name, or the stem of a scene shipped in data/scenes/
+// ("forest"); rg::Error listing the known names otherwise.
 Scene loadSceneByName(const std::string& fileOrName, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace rg::ray
