@@ -6,6 +6,7 @@
 #include "raycore/accel.h"
 
 #include <emmintrin.h>
+#include <xmmintrin.h>
 
 #include <algorithm>
 #include <bit>
@@ -277,6 +278,89 @@ SurfacePoint Accel::surface(const Ray& ray, const Hit& hit) const {
     s.part = ts.part;
     s.material = w.material;
     return s;
+}
+
+void Accel::surfaces(const Ray* rays, const Hit* hits, SurfacePoint* out, size_t n) const {
+    // Lane for lane the operations of surface(), in its order (glm evaluates a + b + c as
+    // (a + b) + c and dot(a, b) as (a.x·b.x + a.y·b.y) + a.z·b.z); SSE's sqrt, division and
+    // arithmetic round like the scalar instructions, and negation is the same sign flip.
+    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+    const __m128 sign = _mm_set1_ps(-0.0f);
+    auto add = [](__m128 a, __m128 b) { return _mm_add_ps(a, b); };
+    auto mul = [](__m128 a, __m128 b) { return _mm_mul_ps(a, b); };
+    auto dot = [&](const __m128* a, const __m128* b) {
+        return add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]));
+    };
+    // Lanes without a hit (misses, the end of a partial group) read these harmless values.
+    static const Hit noHit{};
+    static const Ray noRay{};
+    static const TriangleShading noShading{};
+    static const glm::vec3 noNormal{0.0f, 1.0f, 0.0f};
+    for (size_t base = 0; base < n; base += 4) {
+        const size_t m = std::min<size_t>(4, n - base);
+        // Lanes are filled from registers (_mm_setr_ps), not through a stack array: four
+        // scalar stores read back as one vector would stall on store forwarding.
+        const Hit* h[4];
+        const Ray* r[4];
+        const TriangleShading* ts[4];
+        const glm::vec3* g[4];
+        for (size_t l = 0; l < 4; ++l) {
+            const bool valid = l < m && hits[base + l].valid();
+            h[l] = valid ? &hits[base + l] : &noHit;
+            r[l] = valid ? &rays[base + l] : &noRay;
+            const WorldMesh* w = valid ? &meshes_[h[l]->object] : nullptr;
+            ts[l] = valid ? &w->triangles[h[l]->triangle] : &noShading;
+            g[l] = valid ? &w->faceNormals[h[l]->triangle] : &noNormal;
+        }
+        auto lanes = [&](auto get) { return _mm_setr_ps(get(0), get(1), get(2), get(3)); };
+        const __m128 U = lanes([&](int l) { return h[l]->u; });
+        const __m128 V = lanes([&](int l) { return h[l]->v; });
+        const __m128 T = lanes([&](int l) { return h[l]->t; });
+        const __m128 b0 = _mm_sub_ps(_mm_sub_ps(one, U), V);
+        __m128 P[3], G[3], D[3], NS[3], UV[2];
+        for (int c = 0; c < 3; ++c) {
+            G[c] = lanes([&](int l) { return (*g[l])[c]; });
+            D[c] = lanes([&](int l) { return r[l]->dir[c]; });
+            P[c] = add(lanes([&](int l) { return r[l]->origin[c]; }), mul(T, D[c]));
+            NS[c] = add(add(mul(b0, lanes([&](int l) { return ts[l]->normal[0][c]; })),
+                            mul(U, lanes([&](int l) { return ts[l]->normal[1][c]; }))),
+                        mul(V, lanes([&](int l) { return ts[l]->normal[2][c]; })));
+        }
+        for (int c = 0; c < 2; ++c)
+            UV[c] = add(add(mul(b0, lanes([&](int l) { return ts[l]->uv[0][c]; })),
+                            mul(U, lanes([&](int l) { return ts[l]->uv[1][c]; }))),
+                        mul(V, lanes([&](int l) { return ts[l]->uv[2][c]; })));
+        const __m128 len = _mm_sqrt_ps(dot(NS, NS));
+        const __m128 inv = _mm_div_ps(one, len);
+        const __m128 positive = _mm_cmpgt_ps(len, zero);  // false for NaN, as in surface()
+        for (int c = 0; c < 3; ++c)
+            NS[c] = _mm_or_ps(_mm_and_ps(positive, mul(NS[c], inv)), _mm_andnot_ps(positive, G[c]));
+        const __m128 flip = _mm_and_ps(_mm_cmplt_ps(dot(NS, G), zero), sign);
+        for (int c = 0; c < 3; ++c) NS[c] = _mm_xor_ps(NS[c], flip);
+        const int front = _mm_movemask_ps(_mm_cmplt_ps(dot(D, G), zero));
+        alignas(16) float p[3][4], ns[3][4], st[2][4];
+        for (int c = 0; c < 3; ++c) {
+            _mm_store_ps(p[c], P[c]);
+            _mm_store_ps(ns[c], NS[c]);
+        }
+        for (int c = 0; c < 2; ++c) _mm_store_ps(st[c], UV[c]);
+        for (size_t l = 0; l < m; ++l) {
+            SurfacePoint& s = out[base + l];
+            if (h[l] == &noHit) {
+                s = SurfacePoint();
+                continue;
+            }
+            s.p = {p[0][l], p[1][l], p[2][l]};
+            s.ng = *g[l];
+            s.ns = {ns[0][l], ns[1][l], ns[2][l]};
+            s.uv = {st[0][l], st[1][l]};
+            s.frontFace = (front >> l) & 1;
+            s.object = h[l]->object;
+            s.triangle = h[l]->triangle;
+            s.part = ts[l]->part;
+            s.material = meshes_[h[l]->object].material;
+        }
+    }
 }
 
 glm::vec3 Accel::offsetOrigin(const SurfacePoint& s, glm::vec3 dir) const {

@@ -63,6 +63,10 @@ class Accel {
     void intersectStream(const Ray* rays, Hit* hits, size_t count, bool coherent) const;
 
     SurfacePoint surface(const Ray& ray, const Hit& hit) const;
+    // surface() of n hits at once, for streams and packets: the same values bit for bit
+    // (tests/raycore/test_accel.cpp), four hits to the SSE lanes, so that four normals'
+    // square roots and divisions overlap instead of following one another.
+    void surfaces(const Ray* rays, const Hit* hits, SurfacePoint* out, size_t n) const;
 
     // Every intersection along the ray in [tnear, tfar], nearest first, duplicates removed:
     // a ray through a shared edge or vertex meets every triangle around it at the same t
