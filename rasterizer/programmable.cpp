@@ -6,6 +6,7 @@
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -128,70 +129,14 @@ void QuadContext::undeclaredTarget(int target) const {
                        ", which it does not declare in kTargets");
 }
 
-const detail::BoundUnit& QuadContext::unit(int u) const {
-    if (u < 0 || u >= kMaxProgramUnits || !((setup_->declaredUnits >> u) & 1u))
-        throw InvalidState("quad program reads texture unit " + std::to_string(u) +
-                           ", which it does not declare in kUnits");
-    return (*setup_->units)[size_t(u)];
+void QuadContext::undeclaredUnit(int u) const {
+    throw InvalidState("quad program reads texture unit " + std::to_string(u) +
+                       ", which it does not declare in kUnits");
 }
 
-namespace {
-
-// detail::nearestTexel on four lanes: ⌊c·n⌋ (NaN → 0, clamped to ±2^22), then WRAP (a
-// power-of-two mask) or CLAMP_TO_EDGE. Clamping the float to [0, n − 1] before the floor
-// equals clamping the floored integer. Non-power-of-two WRAP returns false (scalar path).
-bool nearestTexels4(__m128 c, int n, bool wrap, __m128i& out) {
-    if (wrap && (n & (n - 1)) != 0) return false;
-    __m128 u = _mm_mul_ps(c, _mm_set1_ps(float(n)));
-    u = _mm_and_ps(u, _mm_cmpord_ps(u, u));  // NaN → 0
-    if (wrap)
-        u = _mm_max_ps(_mm_min_ps(u, _mm_set1_ps(4194304.0f)), _mm_set1_ps(-4194304.0f));
-    else
-        u = _mm_max_ps(_mm_min_ps(u, _mm_set1_ps(float(n - 1))), _mm_setzero_ps());
-    __m128i i = _mm_cvttps_epi32(u);
-    // Truncation rounded a negative non-integer up: step down (the mask is −1 there).
-    i = _mm_add_epi32(i, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i), u)));
-    if (wrap) i = _mm_and_si128(i, _mm_set1_epi32(n - 1));
-    out = i;
-    return true;
-}
-
-}  // namespace
-
-Vec4x4 QuadContext::sampleLevel(int u, const Vec4x4& c, Float4 lod, Mask4 m) {
-    const detail::BoundUnit& b = unit(u);
-    const uint32_t lanes = active_ & ~discarded_ & m.bits();
-    if (b.nearest.valid() && setup_->path == Path::Fast) {
-        const detail::NearestFloat2D& n = b.nearest;
-        __m128i xi, yi = _mm_setzero_si128();
-        if (nearestTexels4(c.x.v, n.width, n.wrapS, xi) &&
-            (n.height == 1 || nearestTexels4(c.y.v, n.height, n.wrapT, yi))) {
-            // Every lane's texel is inside the level (addressing saw to it), so all four are
-            // read and the inactive ones zeroed afterwards: no branches per lane.
-            alignas(16) int32_t xs[4], ys[4];
-            _mm_store_si128(reinterpret_cast<__m128i*>(xs), xi);
-            _mm_store_si128(reinterpret_cast<__m128i*>(ys), yi);
-            size_t idx[4];
-            for (int i = 0; i < 4; ++i) idx[i] = size_t(ys[i]) * size_t(n.width) + size_t(xs[i]);
-            const __m128 live = Mask4::fromBits(lanes).v;
-            for (int i = 0; i < 4; ++i) fetches_[size_t(i)] += (lanes >> i) & 1u;
-            if (n.data1) {
-                // The tap sum's 0 + texel: −0 becomes +0.
-                const __m128 v = _mm_and_ps(
-                    _mm_add_ps(_mm_setr_ps(n.data1[idx[0]], n.data1[idx[1]], n.data1[idx[2]], n.data1[idx[3]]),
-                               _mm_setzero_ps()),
-                    live);
-                const Float4 r(v), one(_mm_and_ps(_mm_set1_ps(1.0f), live));
-                return n.depth ? Vec4x4(r, r, r, one) : Vec4x4(r, Float4(0.0f), Float4(0.0f), one);
-            }
-            __m128 t0 = _mm_loadu_ps(&n.data4[idx[0]].x), t1 = _mm_loadu_ps(&n.data4[idx[1]].x);
-            __m128 t2 = _mm_loadu_ps(&n.data4[idx[2]].x), t3 = _mm_loadu_ps(&n.data4[idx[3]].x);
-            _MM_TRANSPOSE4_PS(t0, t1, t2, t3);
-            const __m128 z = _mm_setzero_ps();
-            return {Float4(_mm_and_ps(_mm_add_ps(t0, z), live)), Float4(_mm_and_ps(_mm_add_ps(t1, z), live)),
-                    Float4(_mm_and_ps(_mm_add_ps(t2, z), live)), Float4(_mm_and_ps(_mm_add_ps(t3, z), live))};
-        }
-    }
+// Lane by lane through the scalar fetch: filtered samplers, non-power-of-two WRAP, and the
+// reference path.
+Vec4x4 QuadContext::sampleLevelLanes(const detail::BoundUnit& b, const Vec4x4& c, Float4 lod, uint32_t lanes) {
     alignas(16) float cx[4], cy[4], cz[4], cw[4], l[4];
     _mm_store_ps(cx, c.x.v);
     _mm_store_ps(cy, c.y.v);
@@ -325,6 +270,36 @@ void mergeFragment(const ProgramDraw& d, int x, int y,
             else
                 t.dataF[i] = toStored(t.format, merged);
         }
+    }
+}
+
+void mergeQuad(const ProgramDraw& d, int qx, int qy, const QuadContext& f, uint32_t alive) {
+    for (int k = 0; k < d.numTargets; ++k) {
+        const uint32_t lanes = f.writtenLanes(k) & alive;
+        if (!lanes) continue;
+        const TargetView& t = d.targets[size_t(k)];
+        if (t.data8 && !t.blend.enable && t.blend.writeMask == kWriteRGBA) {
+            // tex::floatToRgba8 on four lanes: max(x, 0) also maps NaN to 0 (MAXPS returns
+            // its second operand), then min(x, 1), x·255 + ½ and truncation (= floor here).
+            const Vec4x4& o = f.outQuad(k);
+            auto unorm = [](__m128 x) {
+                x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(1.0f));
+                return _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(255.0f)), _mm_set1_ps(0.5f)));
+            };
+            const __m128i px = _mm_or_si128(
+                _mm_or_si128(unorm(o.x.v), _mm_slli_epi32(unorm(o.y.v), 8)),
+                _mm_or_si128(_mm_slli_epi32(unorm(o.z.v), 16), _mm_slli_epi32(unorm(o.w.v), 24)));
+            alignas(16) uint32_t v[4];
+            _mm_store_si128(reinterpret_cast<__m128i*>(v), px);
+            for (int p = 0; p < 4; ++p) {
+                if (!((lanes >> p) & 1u)) continue;
+                const size_t i = size_t(qy + (p >> 1)) * size_t(t.width) + size_t(qx + (p & 1));
+                std::memcpy(&t.data8[i], &v[p], 4);  // Rgba8 is r, g, b, a in memory
+            }
+            continue;
+        }
+        for (int p = 0; p < 4; ++p)
+            if ((lanes >> p) & 1u) mergeFragment(d, qx + (p & 1), qy + (p >> 1), f.out(p), 1u << k);
     }
 }
 

@@ -78,6 +78,11 @@ bool depthPasses(CompareFunc f, float incoming, float stored);
 void mergeFragment(const ProgramDraw& d, int x, int y,
                    const std::array<glm::vec4, kMaxColorTargets>& out, uint32_t written);
 
+// The output merger for the lanes `alive` of a quad program's quad at (qx, qy): RGBA8
+// targets without blending convert and store the four lanes at once, the rest go through
+// mergeFragment lane by lane. The same bytes as mergeFragment per lane.
+void mergeQuad(const ProgramDraw& d, int qx, int qy, const QuadContext& f, uint32_t alive);
+
 // A quad program (quad_program.h) takes a QuadContext; a scalar one a FragmentContext.
 template <class FP>
 constexpr bool kIsQuadProgram = requires(const FP& fp, QuadContext& q) { fp(q); };
@@ -190,6 +195,7 @@ inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const ProgramTria
             Vec4x4(Float4::lanes(x0, x0 + 1.0f, x0, x0 + 1.0f), Float4::lanes(y0, y0, y0 + 1.0f, y0 + 1.0f),
                    Float4::lanes(zf[0], zf[1], zf[2], zf[3]), Float4::lanes(iw[0], iw[1], iw[2], iw[3])));
     fp(f);
+    uint32_t alive = 0;
     for (int p = 0; p < 4; ++p) {
         if (!((run >> p) & 1u)) continue;
         ++c.fragmentInvocations;
@@ -199,12 +205,13 @@ inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const ProgramTria
             ++c.fragmentsDiscarded;
             continue;
         }
+        alive |= 1u << p;
+        ++c.fragmentsWritten;
         const int px = qx + (p & 1), py = qy + (p >> 1);
         if (d.depthData && d.depthWrite)
             d.depthData[size_t(py) * size_t(d.depthWidth) + size_t(px)] = zStore[p];
-        mergeFragment(d, px, py, f.out(p), f.written(p));
-        ++c.fragmentsWritten;
     }
+    if (alive) mergeQuad(d, qx, qy, f, alive);
 }
 
 template <class FP>

@@ -29,6 +29,7 @@
 #pragma once
 
 #include <emmintrin.h>
+#include <xmmintrin.h>
 
 #include <array>
 #include <cstdint>
@@ -148,18 +149,22 @@ class QuadContext {
     // textureLod / SampleLevel per active lane (texunit/program_fetch.h); inactive lanes
     // read zero. `m` narrows the lanes further, as divergent control flow does on the
     // hardware: a lane that has left a loop fetches (and counts) nothing.
-    Vec4x4 sampleLevel(int unit, const Vec4x4& c, Float4 lod, Mask4 m = Mask4::fromBits(15));
+    Vec4x4 sampleLevel(int unit, const Vec4x4& c, Float4 lod, Mask4 m = Mask4::fromBits(15)) {
+        const detail::BoundUnit& b = this->unit(unit);
+        const uint32_t lanes = active_ & ~discarded_ & m.bits();
+        Vec4x4 r;
+        if (b.nearest.valid() && setup_->path == Path::Fast && fetchNearest4(b.nearest, c, lanes, r)) return r;
+        return sampleLevelLanes(b, c, lod, lanes);
+    }
 
     void discard(Mask4 m) { discarded_ |= m.bits() & active_; }
     void output(int target, const Vec4x4& color, Mask4 m = Mask4::fromBits(15)) {
         if (target < 0 || target >= kMaxColorTargets || !((setup_->declaredTargets >> target) & 1u))
             undeclaredTarget(target);
         const uint32_t lanes = m.bits() & active_ & ~discarded_;
-        for (int i = 0; i < 4; ++i)
-            if ((lanes >> i) & 1u) {
-                out_[size_t(i)][size_t(target)] = color.lane(i);
-                written_[size_t(i)] |= 1u << target;
-            }
+        const Mask4 w = Mask4::fromBits(lanes);
+        out_[size_t(target)] = select(w, color, out_[size_t(target)]);
+        writtenLanes_[size_t(target)] |= lanes;
     }
 
     // ---- used by the pipeline --------------------------------------------------------------
@@ -170,26 +175,92 @@ class QuadContext {
         active_ = active;
         discarded_ = 0;
         fragCoord_ = fragCoord;
-        written_ = {};
+        writtenLanes_ = {};
         fetches_ = {};
     }
     uint32_t runLanes() const { return active_; }
     uint32_t discardedLanes() const { return discarded_; }
-    uint32_t written(int lane) const { return written_[size_t(lane)]; }
-    const std::array<glm::vec4, kMaxColorTargets>& out(int lane) const { return out_[size_t(lane)]; }
+    // Bit k: target k written by lane `lane`.
+    uint32_t written(int lane) const {
+        uint32_t w = 0;
+        for (int k = 0; k < kMaxColorTargets; ++k) w |= ((writtenLanes_[size_t(k)] >> lane) & 1u) << k;
+        return w;
+    }
+    uint32_t writtenLanes(int target) const { return writtenLanes_[size_t(target)]; }
+    const Vec4x4& outQuad(int target) const { return out_[size_t(target)]; }
+    std::array<glm::vec4, kMaxColorTargets> out(int lane) const {
+        std::array<glm::vec4, kMaxColorTargets> o{};
+        for (int k = 0; k < kMaxColorTargets; ++k) o[size_t(k)] = out_[size_t(k)].lane(lane);
+        return o;
+    }
     uint32_t fetches(int lane) const { return fetches_[size_t(lane)]; }
 
   private:
     [[noreturn]] void undeclaredTarget(int target) const;
-    const detail::BoundUnit& unit(int u) const;
+    [[noreturn]] void undeclaredUnit(int u) const;
+    const detail::BoundUnit& unit(int u) const {
+        if (u < 0 || u >= kMaxProgramUnits || !((setup_->declaredUnits >> u) & 1u)) undeclaredUnit(u);
+        return (*setup_->units)[size_t(u)];
+    }
+    Vec4x4 sampleLevelLanes(const detail::BoundUnit& b, const Vec4x4& c, Float4 lod, uint32_t lanes);
+
+    // detail::nearestTexel on four lanes: ⌊c·n⌋ (NaN → 0, clamped to ±2^22), then WRAP (a
+    // power-of-two mask) or CLAMP_TO_EDGE. Clamping the float to [0, n − 1] before the floor
+    // equals clamping the floored integer. Non-power-of-two WRAP: false (lane by lane).
+    static bool nearestTexels4(__m128 c, int n, bool wrap, __m128i& out) {
+        if (wrap && (n & (n - 1)) != 0) return false;
+        __m128 u = _mm_mul_ps(c, _mm_set1_ps(float(n)));
+        u = _mm_and_ps(u, _mm_cmpord_ps(u, u));  // NaN → 0
+        if (wrap)
+            u = _mm_max_ps(_mm_min_ps(u, _mm_set1_ps(4194304.0f)), _mm_set1_ps(-4194304.0f));
+        else
+            u = _mm_max_ps(_mm_min_ps(u, _mm_set1_ps(float(n - 1))), _mm_setzero_ps());
+        __m128i i = _mm_cvttps_epi32(u);
+        // Truncation rounded a negative non-integer up: step down (the mask is −1 there).
+        i = _mm_add_epi32(i, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i), u)));
+        if (wrap) i = _mm_and_si128(i, _mm_set1_epi32(n - 1));
+        out = i;
+        return true;
+    }
+    // Point sampling (detail::NearestFloat2D) of the four lanes; inactive lanes read zero.
+    // Every lane's texel is inside the level (addressing saw to it), so all four are read
+    // and the inactive ones zeroed afterwards, without a branch per lane.
+    bool fetchNearest4(const detail::NearestFloat2D& n, const Vec4x4& c, uint32_t lanes, Vec4x4& r) {
+        __m128i xi, yi = _mm_setzero_si128();
+        if (!nearestTexels4(c.x.v, n.width, n.wrapS, xi)) return false;
+        if (n.height != 1 && !nearestTexels4(c.y.v, n.height, n.wrapT, yi)) return false;
+        alignas(16) int32_t xs[4], ys[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(xs), xi);
+        _mm_store_si128(reinterpret_cast<__m128i*>(ys), yi);
+        size_t idx[4];
+        for (int i = 0; i < 4; ++i) idx[i] = size_t(ys[i]) * size_t(n.width) + size_t(xs[i]);
+        const __m128 live = Mask4::fromBits(lanes).v;
+        for (int i = 0; i < 4; ++i) fetches_[size_t(i)] += (lanes >> i) & 1u;
+        const __m128 z = _mm_setzero_ps();
+        if (n.data1) {
+            // The tap sum's 0 + texel: −0 becomes +0.
+            const Float4 v(_mm_and_ps(
+                _mm_add_ps(_mm_setr_ps(n.data1[idx[0]], n.data1[idx[1]], n.data1[idx[2]], n.data1[idx[3]]), z),
+                live));
+            const Float4 one(_mm_and_ps(_mm_set1_ps(1.0f), live));
+            r = n.depth ? Vec4x4(v, v, v, one) : Vec4x4(v, Float4(0.0f), Float4(0.0f), one);
+            return true;
+        }
+        __m128 t0 = _mm_loadu_ps(&n.data4[idx[0]].x), t1 = _mm_loadu_ps(&n.data4[idx[1]].x);
+        __m128 t2 = _mm_loadu_ps(&n.data4[idx[2]].x), t3 = _mm_loadu_ps(&n.data4[idx[3]].x);
+        _MM_TRANSPOSE4_PS(t0, t1, t2, t3);
+        r = Vec4x4(Float4(_mm_and_ps(_mm_add_ps(t0, z), live)), Float4(_mm_and_ps(_mm_add_ps(t1, z), live)),
+                   Float4(_mm_and_ps(_mm_add_ps(t2, z), live)), Float4(_mm_and_ps(_mm_add_ps(t3, z), live)));
+        return true;
+    }
 
     const FragmentContext::Setup* setup_ = nullptr;
     const detail::QuadVaryings* quad_ = nullptr;
     uint32_t active_ = 0, discarded_ = 0;
     Vec4x4 fragCoord_;
-    std::array<uint32_t, 4> written_{};
+    std::array<uint32_t, kMaxColorTargets> writtenLanes_{};  // per target, bit i: lane i
     std::array<uint32_t, 4> fetches_{};
-    std::array<std::array<glm::vec4, kMaxColorTargets>, 4> out_{};
+    std::array<Vec4x4, kMaxColorTargets> out_{};
 };
 
 }  // namespace rg::raster
