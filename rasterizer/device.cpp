@@ -106,13 +106,17 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     // Vertex stage: every submitted vertex once, independent of the others.
     std::vector<ProcessedVertex>& processed = scratchVertices;
     if (processed.size() < vertices.size()) processed.resize(vertices.size());
-    auto processRange = [&](size_t b, size_t e) {
-        for (size_t i = b; i < e; ++i)
-            processed[i] = processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
-    };
-    auto processedAt = [&](uint32_t i) -> const ProcessedVertex& { return processed[i]; };
     // The observer hook lives in the reference raster loop, which gets the reference setup.
     const bool fastPath = options.path == Path::Fast && !dc.fragmentObserver;
+    auto processRange = [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i)
+            if (fastPath)
+                processVertexInto(dc, worldViewProj, worldView, normalMatrix, vertices[i],
+                                  processed[i]);
+            else
+                processed[i] = processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
+    };
+    auto processedAt = [&](uint32_t i) -> const ProcessedVertex& { return processed[i]; };
     auto setupRange = [&](uint32_t b, uint32_t e, std::vector<SetupTriangle>& out,
                           std::vector<Plane>& texPool, GeometryCounters& gc, auto&& fetch) {
         out.reserve(out.size() + (e - b));
@@ -179,8 +183,8 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             if (st.load(std::memory_order_acquire) != 2) {
                 uint8_t expected = 0;
                 if (st.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) {
-                    processed[i] =
-                        processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
+                    processVertexInto(dc, worldViewProj, worldView, normalMatrix,
+                                      vertices[i], processed[i]);
                     st.store(2, std::memory_order_release);
                 } else {
                     while (st.load(std::memory_order_acquire) != 2) std::this_thread::yield();

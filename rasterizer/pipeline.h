@@ -140,6 +140,11 @@ DrawContext makeDrawContext(const PipelineState& st, Framebuffer& fb, const tex:
 ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewProj,
                               const glm::mat4& worldView, const glm::mat3& normalMatrix,
                               const Vertex& v);
+// processVertex writing into `p` (the fast path's vertex array) instead of returning a
+// fresh, zeroed ProcessedVertex: the same values in every field a later stage reads.
+void processVertexInto(const DrawContext& dc, const glm::mat4& worldViewProj,
+                       const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                       const Vertex& v, ProcessedVertex& p);
 // The programmable pipeline (programmable.cpp) reuses clipping and setup: a context for a
 // target of width×height whose `varyingFloats` attributes (from attr[kColorAttrs]) are all
 // interpolated perspective-correctly, and the window position, snapped position and

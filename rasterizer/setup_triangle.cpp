@@ -280,7 +280,8 @@ template <bool kAvx2>
         texPool.resize(texPool.size() + size_t(dc.numAttrs - kColorAttrs));
         Plane* out = texPool.data() + t.texPlanes;
         alignas(16) float c[4], dx[4], dy[4];
-        for (int a = kColorAttrs; a < dc.numAttrs; a += 4, out += 4) {  // one set per step
+        int a = kColorAttrs;
+        for (; a + 4 <= dc.numAttrs; a += 4, out += 4) {  // one set per step
             if constexpr (kAvx2)
                 colorPlanes4Avx2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1, w2,
                                  true, g, c, dx, dy);
@@ -289,6 +290,9 @@ template <bool kAvx2>
                                  true, g, c, dx, dy);
             for (int k = 0; k < 4; ++k) out[k] = Plane{c[k], dx[k], dy[k]};
         }
+        for (; a < dc.numAttrs; ++a, ++out)  // a partial set (only programmable varyings)
+            *out = makePlane(v[0]->attr[a] * w0, v[1]->attr[a] * w1, v[2]->attr[a] * w2, g.dx1,
+                             g.dy1, g.dx2, g.dy2, invArea);
     }
     t.flatDiffuse = flatDiffuse;
     t.flatSpecular = flatSpecular;

@@ -126,6 +126,18 @@ ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewP
                               const glm::mat4& worldView, const glm::mat3& normalMatrix,
                               const Vertex& v) {
     ProcessedVertex p;
+    processVertexInto(dc, worldViewProj, worldView, normalMatrix, v, p);
+    return p;
+}
+
+void processVertexInto(const DrawContext& dc, const glm::mat4& worldViewProj,
+                       const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                       const Vertex& v, ProcessedVertex& p) {
+    // Every field a later stage reads gets its value here, as in a fresh ProcessedVertex;
+    // attr past numAttrs is never read and keeps whatever it held.
+    p.wx = p.wy = p.wz = p.invW = 0.0f;
+    p.sx = p.sy = 0;
+    p.outcode = 0;
     const glm::vec4& in = v.position;
     tex::VertexEye eye;
     if (dc.space == VertexSpace::Pretransformed) {
@@ -164,7 +176,6 @@ ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewP
         glm::vec4 tc = dc.tu->processVertexTexCoord(set, eye, v.tex[set]);
         for (int c = 0; c < 4; ++c) p.attr[kColorAttrs + 4 * k + c] = tc[c];
     }
-    return p;
 }
 
 void clipAndSetupFast(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
