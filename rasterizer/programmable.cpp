@@ -134,6 +134,32 @@ void QuadContext::undeclaredUnit(int u) const {
                        ", which it does not declare in kUnits");
 }
 
+Vec4x4 QuadContext::sample(int u, int k, Mask4 m) {
+    const detail::BoundUnit& b = unit(u);
+    const uint32_t lanes = active_ & ~discarded_ & m.bits();
+    const auto& q = quad_->v[size_t(k)];
+    const int32_t lambda = tex::programLambdaQuad(*b.texture, b.sampler, q);  // one per quad
+    std::array<glm::vec4, 4> t{};
+    for (int i = 0; i < 4; ++i)
+        if ((lanes >> i) & 1u)
+            t[size_t(i)] = tex::programFetch(*b.texture, b.sampler, q[size_t(i)], lambda, setup_->path,
+                                             fetches_[size_t(i)]);
+    return {Float4::lanes(t[0].x, t[1].x, t[2].x, t[3].x), Float4::lanes(t[0].y, t[1].y, t[2].y, t[3].y),
+            Float4::lanes(t[0].z, t[1].z, t[2].z, t[3].z), Float4::lanes(t[0].w, t[1].w, t[2].w, t[3].w)};
+}
+
+Float4 QuadContext::sampleCompare(int u, const Vec4x4& c, Float4 ref, Mask4 m) {
+    const detail::BoundUnit& b = unit(u);
+    const uint32_t lanes = active_ & ~discarded_ & m.bits();
+    const int32_t lambda = tex::programLambdaLod(b.sampler, 0.0f);
+    float r[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 4; ++i)
+        if ((lanes >> i) & 1u)
+            r[i] = tex::programFetchCompare(*b.texture, b.sampler, c.lane(i), ref[i], lambda, setup_->path,
+                                            fetches_[size_t(i)]);
+    return Float4::lanes(r[0], r[1], r[2], r[3]);
+}
+
 // Lane by lane through the scalar fetch: filtered samplers, non-power-of-two WRAP, and the
 // reference path.
 Vec4x4 QuadContext::sampleLevelLanes(const detail::BoundUnit& b, const Vec4x4& c, Float4 lod, uint32_t lanes) {

@@ -157,6 +157,11 @@ class QuadContext {
         return sampleLevelLanes(b, c, lod, lanes);
     }
 
+    // Unit `unit` at varying `k` with λ from that varying over the quad (texture2D, Sample),
+    // and the depth compare of level 0 (shadow2D, SampleCmp), per lane in `m`.
+    Vec4x4 sample(int unit, int k, Mask4 m = Mask4::fromBits(15));
+    Float4 sampleCompare(int unit, const Vec4x4& c, Float4 ref, Mask4 m = Mask4::fromBits(15));
+
     void discard(Mask4 m) { discarded_ |= m.bits() & active_; }
     void output(int target, const Vec4x4& color, Mask4 m = Mask4::fromBits(15)) {
         if (target < 0 || target >= kMaxColorTargets || !((setup_->declaredTargets >> target) & 1u))
