@@ -446,8 +446,16 @@ Scene loadSceneByName(const std::string& fileOrName, std::vector<std::string>* w
     std::filesystem::path p(fileOrName);
     if (p.extension() == ".json" || std::filesystem::exists(p)) return loadSceneJson(p, warnings);
     const std::vector<std::string> builtin = builtinSceneNames();
-    if (std::find(builtin.begin(), builtin.end(), fileOrName) != builtin.end())
-        return makeBuiltinScene(fileOrName);
+    if (std::find(builtin.begin(), builtin.end(), fileOrName) != builtin.end()) {
+        // The same warnings a scene file gets (a glass mesh that is not closed: the
+        // teapot of glass-teapot), not only those of files.
+        Scene scene = makeBuiltinScene(fileOrName);
+        for (const std::string& w : validateScene(scene)) {
+            if (warnings) warnings->push_back(w);
+            else std::fprintf(stderr, "warning: %s\n", w.c_str());
+        }
+        return scene;
+    }
     // The scenes shipped in data/scenes/ by their stem: `--scene forest`.
     const std::filesystem::path shipped = dataDir() / "scenes" / (fileOrName + ".json");
     std::error_code ec;

@@ -211,5 +211,19 @@ TEST(MeshFiles, PlyAndGltfLoadThroughAssimp) {
     EXPECT_EQ(gltf.positions.size(), 3u);
 }
 
+TEST(BadInput, BuiltinScenesWarnLikeSceneFiles) {
+    // `raytrace --scene glass-teapot` warns as the same scene written as a file would:
+    // Newell's teapot is open (spout, handle and lid meet the body without sharing edges).
+    std::vector<std::string> warnings;
+    loadSceneByName("glass-teapot", &warnings);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("glass-teapot"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("'teapot'"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("not closed"), std::string::npos) << warnings[0];
+    warnings.clear();
+    loadSceneByName("glass-cube", &warnings);
+    EXPECT_TRUE(warnings.empty());
+}
+
 }  // namespace
 }  // namespace rg::ray
