@@ -1,6 +1,9 @@
 // The JSON scene format: the documented example loads, scenes survive a round trip.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
+
 #include "raycore/builtin_scenes.h"
 #include "raycore/scene_json.h"
 #include "test_util.h"
@@ -48,6 +51,16 @@ TEST(SceneJson, DocumentedExampleLoads) {
     EXPECT_FALSE(s.lights.empty());
     int teapot = s.findObject("teapot");
     EXPECT_GE(s.meshes[s.objects[size_t(teapot)].mesh].findPart("lid"), 0);
+}
+
+// Docs that can't go stale: every built-in scene is listed in docs/scene-format.md.
+TEST(SceneJson, EveryBuiltinSceneIsDocumented) {
+    std::ifstream in(test::sourceDir() / "docs" / "scene-format.md");
+    std::stringstream doc;
+    doc << in.rdbuf();
+    for (const std::string& name : builtinSceneNames())
+        EXPECT_NE(doc.str().find("`" + name + "`"), std::string::npos)
+            << "docs/scene-format.md does not list the built-in scene " << name;
 }
 
 TEST(SceneJson, ExampleRoundTrips) {
