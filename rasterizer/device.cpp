@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <thread>
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -169,32 +168,19 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
                 rasterizeChunk(dc, ch, rc);
             }
         } else {
-        // Vertices are transformed on first use by whichever chunk needs them (one state
-        // byte per vertex: 0 untouched, 1 being computed, 2 done), which saves a pass and
-        // a barrier; processVertex is a pure function, so who computes it cannot matter.
-        if (vertexStateSize < vertices.size()) {
-            vertexState = std::make_unique<std::atomic<uint8_t>[]>(vertices.size());
-            vertexStateSize = vertices.size();
-        }
-        for (size_t i = 0; i < vertices.size(); ++i)
-            vertexState[i].store(0, std::memory_order_relaxed);
-        auto lazyAt = [&](uint32_t i) -> const ProcessedVertex& {
-            std::atomic<uint8_t>& st = vertexState[i];
-            if (st.load(std::memory_order_acquire) != 2) {
-                uint8_t expected = 0;
-                if (st.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) {
-                    processVertexInto(dc, worldViewProj, worldView, normalMatrix,
-                                      vertices[i], processed[i]);
-                    st.store(2, std::memory_order_release);
-                } else {
-                    while (st.load(std::memory_order_acquire) != 2) std::this_thread::yield();
-                }
-            }
-            return processed[i];
-        };
         [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
         RG_TSAN_RELEASE(&forkJoin);
         arena->execute([&] {
+            // Vertices first, in blocks, then the triangle chunks: a barrier is cheaper than
+            // an atomic claim per vertex, and the blocks share out evenly.
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, vertices.size(), 2048),
+                              [&](const tbb::blocked_range<size_t>& r) {
+                                  RG_TSAN_ACQUIRE(&forkJoin);
+                                  processRange(r.begin(), r.end());
+                                  RG_TSAN_RELEASE(&forkJoin);
+                              });
+            RG_TSAN_ACQUIRE(&forkJoin);
+            RG_TSAN_RELEASE(&forkJoin);
             tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
                 RG_TSAN_ACQUIRE(&forkJoin);
                 TriangleChunk& ch = chunks[c];
@@ -202,7 +188,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
                 ch.texPlanes.clear();
                 GeometryCounters local;  // published once: chunks share cache lines
                 setupRange(c * kChunk, std::min(triangles, (c + 1) * kChunk), ch.tris, ch.texPlanes,
-                           local, lazyAt);
+                           local, processedAt);
                 ch.geometry = local;
                 binChunk(ch, tilesX, tilesY);
                 RG_TSAN_RELEASE(&forkJoin);

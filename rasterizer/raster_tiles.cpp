@@ -16,20 +16,32 @@
 namespace rg::raster::detail {
 
 void binChunk(TriangleChunk& chunk, int tilesX, int tilesY) {
+    // Counting sort by tile without a second array: count into binStart[tile], make each
+    // entry the end of its tile's run, then place the triangles last to first, stepping
+    // each tile's entry down to the start of its run (items stay in triangle order).
     const int tiles = tilesX * tilesY;
     chunk.binStart.assign(size_t(tiles) + 1, 0);
-    for (const SetupTriangle& t : chunk.tris)
-        for (int ty = t.minY >> kTileShift; ty <= t.maxY >> kTileShift; ++ty)
-            for (int tx = t.minX >> kTileShift; tx <= t.maxX >> kTileShift; ++tx)
-                ++chunk.binStart[size_t(ty * tilesX + tx) + 1];
-    for (int i = 0; i < tiles; ++i) chunk.binStart[i + 1] += chunk.binStart[i];
-    chunk.binItems.resize(chunk.binStart[tiles]);
-    std::vector<uint32_t> fill(chunk.binStart.begin(), chunk.binStart.end() - 1);
-    for (uint32_t n = 0; n < chunk.tris.size(); ++n) {
+    uint32_t* bin = chunk.binStart.data();
+    for (const SetupTriangle& t : chunk.tris) {
+        const int tx0 = t.minX >> kTileShift, tx1 = t.maxX >> kTileShift;
+        const int ty0 = t.minY >> kTileShift, ty1 = t.maxY >> kTileShift;
+        if (tx0 == tx1 && ty0 == ty1) {  // the common case: inside one tile
+            ++bin[ty0 * tilesX + tx0];
+            continue;
+        }
+        for (int ty = ty0; ty <= ty1; ++ty)
+            for (int tx = tx0; tx <= tx1; ++tx) ++bin[ty * tilesX + tx];
+    }
+    for (int i = 1; i < tiles; ++i) bin[i] += bin[i - 1];
+    bin[tiles] = tiles > 0 ? bin[tiles - 1] : 0;
+    chunk.binItems.resize(bin[tiles]);
+    uint32_t* items = chunk.binItems.data();
+    for (uint32_t n = uint32_t(chunk.tris.size()); n-- > 0;) {
         const SetupTriangle& t = chunk.tris[n];
-        for (int ty = t.minY >> kTileShift; ty <= t.maxY >> kTileShift; ++ty)
-            for (int tx = t.minX >> kTileShift; tx <= t.maxX >> kTileShift; ++tx)
-                chunk.binItems[fill[size_t(ty * tilesX + tx)]++] = n;
+        const int tx0 = t.minX >> kTileShift, tx1 = t.maxX >> kTileShift;
+        const int ty0 = t.minY >> kTileShift, ty1 = t.maxY >> kTileShift;
+        for (int ty = ty0; ty <= ty1; ++ty)
+            for (int tx = tx0; tx <= tx1; ++tx) items[--bin[ty * tilesX + tx]] = n;
     }
 }
 
