@@ -156,6 +156,11 @@ constexpr uint8_t kPopcount4[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3,
 enum BlendMode { kBlendNone, kBlendGeneric, kBlendSrcAlphaInvSrcAlpha, kBlendOneOne };
 
 template <bool kDepth, int kBlendMode>
+[[gnu::always_inline]] inline void quadOutputSse(const DrawContext& dc, const SetupTriangle& t,
+                                                 int qx, int qy, unsigned coverage, __m128i src,
+                                                 RasterCounters& rc);
+
+template <bool kDepth, int kBlendMode>
 [[gnu::always_inline]] inline void processQuadSse(const DrawContext& dc, const SetupTriangle& t, const sse::Planes& planes,
                            const sse::RowTerms& row, int qx, int qy, unsigned coverage,
                            RasterCounters& rc) {
@@ -196,6 +201,16 @@ template <bool kDepth, int kBlendMode>
         src = _mm_adds_epu8(src, _mm_and_si128(spec, _mm_set1_epi32(0x00FFFFFF)));
     }
 
+    quadOutputSse<kDepth, kBlendMode>(dc, t, qx, qy, coverage, src, rc);
+}
+
+// The second half of processQuadSse: alpha and depth tests, blend, write mask and store of
+// the quad's four source pixels `src` (pixel-major RGBA, specular already added).
+template <bool kDepth, int kBlendMode>
+[[gnu::always_inline]] inline void quadOutputSse(const DrawContext& dc, const SetupTriangle& t,
+                                                 int qx, int qy, unsigned coverage, __m128i src,
+                                                 RasterCounters& rc) {
+    const PipelineState& st = dc.st;
     // ---- alpha and depth tests (scalar, as in processQuad) ------------------------------
     Framebuffer& fb = *dc.fb;
     const size_t width = size_t(fb.width());

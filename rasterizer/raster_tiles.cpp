@@ -152,6 +152,43 @@ void singleQuad(const DrawContext& dc, const SetupTriangle& t, const Box& box, R
     coverage &= (qy >= box.y0 ? 0x3u : 0u) | (qy + 1 <= box.y1 ? 0xCu : 0u);
     if (!coverage) return;
     if (qx + 1 < dc.fb->width() && qy + 1 < dc.fb->height()) {
+        if (dc.gouraud && !dc.st.specularEnable) {
+            // processQuadSse's interpolation with the diffuse planes in registers (no
+            // Planes/RowTerms arrays): the same operations on the same values, namely
+            // (c + dx·fx) + dy·fy, ·r, clamp, +½, truncate.
+            const __m128 fx = _mm_sub_ps(_mm_setr_ps(float(qx) + 0.5f, float(qx + 1) + 0.5f,
+                                                     float(qx) + 0.5f, float(qx + 1) + 0.5f),
+                                         _mm_set1_ps(t.x0));
+            const __m128 fy = _mm_sub_ps(_mm_setr_ps(float(qy) + 0.5f, float(qy) + 0.5f,
+                                                     float(qy + 1) + 0.5f, float(qy + 1) + 0.5f),
+                                         _mm_set1_ps(t.y0));
+            bool perspective = dc.perspectiveColor;
+            __m128 r = _mm_set1_ps(1.0f);
+            if (perspective) {
+                const Plane& w = t.invW;
+                if (w.dx == 0.0f && w.dy == 0.0f && std::isfinite(w.c) && w.c != 0.0f) {
+                    const float fr = w.c == 1.0f ? 1.0f : 1.0f / w.c;  // sse::Planes::load
+                    perspective = fr != 1.0f;
+                    r = _mm_set1_ps(fr);
+                } else {
+                    const __m128 wv = _mm_add_ps(
+                        _mm_add_ps(_mm_set1_ps(w.c), _mm_mul_ps(_mm_set1_ps(w.dx), fx)),
+                        _mm_mul_ps(_mm_set1_ps(w.dy), fy));
+                    r = _mm_div_ps(_mm_set1_ps(1.0f), wv);
+                }
+            }
+            __m128i ch[4];
+            for (int a = 0; a < 4; ++a) {
+                __m128 v = _mm_add_ps(
+                    _mm_add_ps(_mm_set1_ps(t.colorC[a]), _mm_mul_ps(_mm_set1_ps(t.colorDx[a]), fx)),
+                    _mm_mul_ps(_mm_set1_ps(t.colorDy[a]), fy));
+                if (perspective) v = _mm_mul_ps(v, r);
+                ch[a] = sse::channelToInt(v);
+            }
+            quadOutputSse<kDepth, kBlendMode>(dc, t, qx, qy, coverage,
+                                              sse::toPixels(ch[0], ch[1], ch[2], ch[3]), rc);
+            return;
+        }
         sse::Planes planes;
         sse::RowTerms row;
         if (dc.gouraud) {
