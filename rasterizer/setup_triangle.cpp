@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
+#include <type_traits>
 
 #include "pipeline.h"
 #include "raster_span_avx2.h"
@@ -195,7 +197,11 @@ __attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const flo
 }
 
 // Set up in a local and append it whole: std::vector's emplace_back() would first zero the
-// 256 bytes (value-initialisation) that are written here anyway.
+// 256 bytes (value-initialisation), and so would a plain local (the member initialisers).
+// The local lives in raw storage instead (SetupTriangle is an aggregate, an implicit-
+// lifetime type, so the byte array provides the object, C++20 [intro.object]), and every
+// member is written below, with the zero a fresh SetupTriangle holds wherever setup
+// computes nothing.
 template <bool kAvx2>
 [[gnu::always_inline]] inline bool setupFastBody(const DrawContext& dc, const ProcessedVertex& v0,
                                                  const ProcessedVertex& v1,
@@ -203,7 +209,11 @@ template <bool kAvx2>
                                                  Rgba8 flatSpecular,
                                                  std::vector<SetupTriangle>& out,
                                                  std::vector<Plane>& texPool) {
-    SetupTriangle t;
+    static_assert(std::is_aggregate_v<SetupTriangle> &&
+                  std::is_trivially_copyable_v<SetupTriangle> &&
+                  std::is_trivially_destructible_v<SetupTriangle>);
+    alignas(SetupTriangle) unsigned char storage[sizeof(SetupTriangle)];
+    SetupTriangle& t = *std::launder(reinterpret_cast<SetupTriangle*>(storage));
     const ProcessedVertex* v[3] = {&v0, &v1, &v2};
     for (const ProcessedVertex* p : v)
         if (!std::isfinite(p->wx) || !std::isfinite(p->wy) || !std::isfinite(p->wz) ||
@@ -256,24 +266,25 @@ template <bool kAvx2>
         t.zc = a0;
         t.zdx = (da1 * g.dy2 - da2 * g.dy1) * invArea;
         t.zdy = (da2 * g.dx1 - da1 * g.dx2) * invArea;
+    } else {
+        t.zc = t.zdx = t.zdy = 0.0;
     }
     const bool needInvW = (dc.gouraud && dc.perspectiveColor) || dc.numTexSets > 0;
     if (needInvW)
         t.invW = makePlane(v[0]->invW, v[1]->invW, v[2]->invW, g.dx1, g.dy1, g.dx2, g.dy2,
                            invArea);
+    else
+        t.invW = Plane{};
     const double w0 = v[0]->invW, w1 = v[1]->invW, w2 = v[2]->invW;
-    if (dc.gouraud) {
-        const int colors = dc.needSpecular ? 8 : 4;
-        for (int a = 0; a < colors; a += 4) {
-            if constexpr (kAvx2)
-                colorPlanes4Avx2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1, w2,
-                                 dc.perspectiveColor, g, &t.colorC[a], &t.colorDx[a],
-                                 &t.colorDy[a]);
-            else
-                colorPlanes4Sse2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1, w2,
-                                 dc.perspectiveColor, g, &t.colorC[a], &t.colorDx[a],
-                                 &t.colorDy[a]);
-        }
+    const int colors = dc.gouraud ? (dc.needSpecular ? 8 : 4) : 0;
+    for (int a = colors; a < kColorAttrs; ++a) t.colorC[a] = t.colorDx[a] = t.colorDy[a] = 0.0f;
+    for (int a = 0; a < colors; a += 4) {
+        if constexpr (kAvx2)
+            colorPlanes4Avx2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1, w2,
+                             dc.perspectiveColor, g, &t.colorC[a], &t.colorDx[a], &t.colorDy[a]);
+        else
+            colorPlanes4Sse2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1, w2,
+                             dc.perspectiveColor, g, &t.colorC[a], &t.colorDx[a], &t.colorDy[a]);
     }
     t.texPlanes = uint32_t(texPool.size());
     if (dc.numAttrs > kColorAttrs) {
