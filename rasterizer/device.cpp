@@ -118,6 +118,11 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     auto processedAt = [&](uint32_t i) -> const ProcessedVertex& { return processed[i]; };
     auto setupRange = [&](uint32_t b, uint32_t e, std::vector<SetupTriangle>& out,
                           std::vector<Plane>& texPool, GeometryCounters& gc, auto&& fetch) {
+        if (fastPath) {
+            setupTrianglesFast(dc, primitive, b, e, indices, vertices, processed.data(), out,
+                               texPool, gc);
+            return;
+        }
         out.reserve(out.size() + (e - b));
         for (uint32_t i = b; i < e; ++i) {
             auto tv = triangleVertices(primitive, i);
@@ -128,10 +133,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             const ProcessedVertex& pa = fetch(a);
             const ProcessedVertex& pb = fetch(bb);
             const ProcessedVertex& pc = fetch(c);
-            if (fastPath)
-                clipAndSetupFast(dc, pa, pb, pc, flatD, flatS, out, texPool, gc);
-            else
-                clipAndSetup(dc, pa, pb, pc, flatD, flatS, out, texPool, gc);
+            clipAndSetup(dc, pa, pb, pc, flatD, flatS, out, texPool, gc);
         }
     };
 

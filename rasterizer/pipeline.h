@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -191,19 +192,17 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
                    const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
                    SetupTriangle& t, std::vector<Plane>& texPool);
 
-// The fast path's setup: the same SetupTriangle and texture planes as setupTriangle, bit
-// for bit, with the colour and texture planes four at a time in SIMD (setup_triangle.cpp);
-// appends the triangle to `out` unless it is culled (false).
-bool setupTriangleFast(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
-                       const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
-                       std::vector<SetupTriangle>& out, std::vector<Plane>& texPool);
-// clipAndSetup with setupTriangleFast for the triangles that need no clipping (clipped
-// ones take the reference setup: few, and the same bytes either way).
-void clipAndSetupFast(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
-                      const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
-                      std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
-                      GeometryCounters& gc);
-
+// The fast path's primitive assembly and setup of triangles [begin, end) of a draw, in
+// order: triangleVertices through `indices` (empty: none), the flat colours from the
+// provoking vertex, the counters as clipAndSetup keeps them, with the setup inlined into
+// the loop and the SIMD level chosen once per call (setup_triangle.cpp). Triangles that need no
+// clipping get the same SetupTriangle and texture planes as setupTriangle, bit for bit,
+// with the planes four channels per SIMD register; clipped ones take clipAndSetup (few,
+// and the same bytes either way).
+void setupTrianglesFast(const DrawContext& dc, Primitive primitive, uint32_t begin, uint32_t end,
+                        std::span<const uint32_t> indices, std::span<const Vertex> vertices,
+                        const ProcessedVertex* processed, std::vector<SetupTriangle>& out,
+                        std::vector<Plane>& texPool, GeometryCounters& gc);
 // ---- raster_reference.cpp / raster_tiles.cpp -------------------------------------------
 void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>& tris,
                         const std::vector<Plane>& texPool, RasterCounters& rc);

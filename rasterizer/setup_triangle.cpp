@@ -127,14 +127,18 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
     return true;
 }
 
-// ---- the fast path's setup ---------------------------------------------------------------
-// setupTriangleFast computes every field setupTriangle computes, with the same IEEE
-// operations on the same operands, so the SetupTriangle is bit for bit the same
+// ---- the fast path's setup
+// --------------------------------------------------------------- setupTrianglesFast
+// computes every field setupTriangle computes, with the same IEEE operations on the same
+// operands, so the SetupTriangle is bit for bit the same
 // (tests/rasterizer/test_paths_agree.cpp draws every triangle of the fast path through
 // it and compares with the reference path). Two things are cheaper:
-//   - one division for 1/area: 2^2s/area rounds to exactly 1/(area·2^−2s), because scaling
-//     by a power of two commutes with rounding (no overflow or underflow: 1 ≤ area < 2^50);
-//   - the colour planes four channels at a time, one channel per 64-bit lane (AVX2 when the
+//   - one division for 1/area: 2^2s/area rounds to exactly 1/(area·2^−2s), because
+//   scaling
+//     by a power of two commutes with rounding (no overflow or underflow: 1 ≤ area <
+//     2^50);
+//   - the colour planes four channels at a time, one channel per 64-bit lane (AVX2 when
+//   the
 //     CPU has it, else two SSE2 registers): sub, mul and the double→float conversion
 //     (round to nearest, as the scalar cast) are lane-wise IEEE operations, and no FMA is
 //     enabled, so each lane is makePlane's arithmetic for its channel.
@@ -144,11 +148,13 @@ struct Geometry {  // what the plane evaluations share
     double dx1, dy1, dx2, dy2, invArea;
 };
 
-// makePlane for 4 channels (a_v = attr_v·(1/w of v) when perspective-correct) of 3 vertices.
-// Out of line: a function of the default target cannot inline an AVX2 one.
-__attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const float* a1, const float* a2, double w0,
-                                    double w1, double w2, bool perspective, const Geometry& g,
-                                    float* c, float* dx, float* dy) {
+// makePlane for 4 channels (a_v = attr_v·(1/w of v) when perspective-correct) of 3
+// vertices. Out of line: a function of the default target cannot inline an AVX2 one.
+__attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const float* a1,
+                                                      const float* a2, double w0,
+                                                      double w1, double w2,
+                                                      bool perspective, const Geometry& g,
+                                                      float* c, float* dx, float* dy) {
     __m256d p0 = _mm256_cvtps_pd(_mm_loadu_ps(a0));
     __m256d p1 = _mm256_cvtps_pd(_mm_loadu_ps(a1));
     __m256d p2 = _mm256_cvtps_pd(_mm_loadu_ps(a2));
@@ -159,12 +165,14 @@ __attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const flo
     }
     const __m256d da1 = _mm256_sub_pd(p1, p0), da2 = _mm256_sub_pd(p2, p0);
     const __m256d inv = _mm256_set1_pd(g.invArea);
-    const __m256d pdx = _mm256_mul_pd(_mm256_sub_pd(_mm256_mul_pd(da1, _mm256_set1_pd(g.dy2)),
-                                                    _mm256_mul_pd(da2, _mm256_set1_pd(g.dy1))),
-                                      inv);
-    const __m256d pdy = _mm256_mul_pd(_mm256_sub_pd(_mm256_mul_pd(da2, _mm256_set1_pd(g.dx1)),
-                                                    _mm256_mul_pd(da1, _mm256_set1_pd(g.dx2))),
-                                      inv);
+    const __m256d pdx =
+        _mm256_mul_pd(_mm256_sub_pd(_mm256_mul_pd(da1, _mm256_set1_pd(g.dy2)),
+                                    _mm256_mul_pd(da2, _mm256_set1_pd(g.dy1))),
+                      inv);
+    const __m256d pdy =
+        _mm256_mul_pd(_mm256_sub_pd(_mm256_mul_pd(da2, _mm256_set1_pd(g.dx1)),
+                                    _mm256_mul_pd(da1, _mm256_set1_pd(g.dx2))),
+                      inv);
     _mm_storeu_ps(c, _mm256_cvtpd_ps(p0));
     _mm_storeu_ps(dx, _mm256_cvtpd_ps(pdx));
     _mm_storeu_ps(dy, _mm256_cvtpd_ps(pdy));
@@ -173,12 +181,15 @@ __attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const flo
 [[gnu::always_inline]] inline void colorPlanes4Sse2(const float* a0, const float* a1,
                                                     const float* a2, double w0, double w1,
                                                     double w2, bool perspective,
-                                                    const Geometry& g, float* c, float* dx,
-                                                    float* dy) {
+                                                    const Geometry& g, float* c,
+                                                    float* dx, float* dy) {
     for (int h = 0; h < 4; h += 2) {  // channels (h, h + 1) per register
-        __m128d p0 = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a0 + h))));
-        __m128d p1 = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a1 + h))));
-        __m128d p2 = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a2 + h))));
+        __m128d p0 = _mm_cvtps_pd(
+            _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a0 + h))));
+        __m128d p1 = _mm_cvtps_pd(
+            _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a1 + h))));
+        __m128d p2 = _mm_cvtps_pd(
+            _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a2 + h))));
         if (perspective) {
             p0 = _mm_mul_pd(p0, _mm_set1_pd(w0));
             p1 = _mm_mul_pd(p1, _mm_set1_pd(w1));
@@ -186,29 +197,32 @@ __attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const flo
         }
         const __m128d da1 = _mm_sub_pd(p1, p0), da2 = _mm_sub_pd(p2, p0);
         const __m128d inv = _mm_set1_pd(g.invArea);
-        const __m128d pdx = _mm_mul_pd(
-            _mm_sub_pd(_mm_mul_pd(da1, _mm_set1_pd(g.dy2)), _mm_mul_pd(da2, _mm_set1_pd(g.dy1))), inv);
-        const __m128d pdy = _mm_mul_pd(
-            _mm_sub_pd(_mm_mul_pd(da2, _mm_set1_pd(g.dx1)), _mm_mul_pd(da1, _mm_set1_pd(g.dx2))), inv);
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(c + h), _mm_castps_si128(_mm_cvtpd_ps(p0)));
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(dx + h), _mm_castps_si128(_mm_cvtpd_ps(pdx)));
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(dy + h), _mm_castps_si128(_mm_cvtpd_ps(pdy)));
+        const __m128d pdx = _mm_mul_pd(_mm_sub_pd(_mm_mul_pd(da1, _mm_set1_pd(g.dy2)),
+                                                  _mm_mul_pd(da2, _mm_set1_pd(g.dy1))),
+                                       inv);
+        const __m128d pdy = _mm_mul_pd(_mm_sub_pd(_mm_mul_pd(da2, _mm_set1_pd(g.dx1)),
+                                                  _mm_mul_pd(da1, _mm_set1_pd(g.dx2))),
+                                       inv);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(c + h),
+                         _mm_castps_si128(_mm_cvtpd_ps(p0)));
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(dx + h),
+                         _mm_castps_si128(_mm_cvtpd_ps(pdx)));
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(dy + h),
+                         _mm_castps_si128(_mm_cvtpd_ps(pdy)));
     }
 }
 
-// Set up in a local and append it whole: std::vector's emplace_back() would first zero the
-// 256 bytes (value-initialisation), and so would a plain local (the member initialisers).
-// The local lives in raw storage instead (SetupTriangle is an aggregate, an implicit-
-// lifetime type, so the byte array provides the object, C++20 [intro.object]), and every
-// member is written below, with the zero a fresh SetupTriangle holds wherever setup
-// computes nothing.
+// Set up in a local and append it whole: std::vector's emplace_back() would first zero
+// the 256 bytes (value-initialisation), and so would a plain local (the member
+// initialisers). The local lives in raw storage instead (SetupTriangle is an aggregate,
+// an implicit- lifetime type, so the byte array provides the object, C++20
+// [intro.object]), and every member is written below, with the zero a fresh SetupTriangle
+// holds wherever setup computes nothing.
 template <bool kAvx2>
-[[gnu::always_inline]] inline bool setupFastBody(const DrawContext& dc, const ProcessedVertex& v0,
-                                                 const ProcessedVertex& v1,
-                                                 const ProcessedVertex& v2, Rgba8 flatDiffuse,
-                                                 Rgba8 flatSpecular,
-                                                 std::vector<SetupTriangle>& out,
-                                                 std::vector<Plane>& texPool) {
+[[gnu::always_inline]] inline bool setupFastBody(
+    const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
+    const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
+    std::vector<SetupTriangle>& out, std::vector<Plane>& texPool) {
     static_assert(std::is_aggregate_v<SetupTriangle> &&
                   std::is_trivially_copyable_v<SetupTriangle> &&
                   std::is_trivially_destructible_v<SetupTriangle>);
@@ -236,8 +250,10 @@ template <bool kAvx2>
     const double invArea = double(int64_t{1} << (2 * s)) / double(area);
 
     const int64_t half = int64_t{1} << (s - 1);
-    const int64_t minXf = std::min({X[0], X[1], X[2]}), maxXf = std::max({X[0], X[1], X[2]});
-    const int64_t minYf = std::min({Y[0], Y[1], Y[2]}), maxYf = std::max({Y[0], Y[1], Y[2]});
+    const int64_t minXf = std::min({X[0], X[1], X[2]}),
+                  maxXf = std::max({X[0], X[1], X[2]});
+    const int64_t minYf = std::min({Y[0], Y[1], Y[2]}),
+                  maxYf = std::max({Y[0], Y[1], Y[2]});
     t.minX = int(std::max<int64_t>(dc.clipX0, (minXf - half + one - 1) >> s));
     t.minY = int(std::max<int64_t>(dc.clipY0, (minYf - half + one - 1) >> s));
     t.maxX = int(std::min<int64_t>(dc.clipX1 - 1, (maxXf - half) >> s));
@@ -277,14 +293,17 @@ template <bool kAvx2>
         t.invW = Plane{};
     const double w0 = v[0]->invW, w1 = v[1]->invW, w2 = v[2]->invW;
     const int colors = dc.gouraud ? (dc.needSpecular ? 8 : 4) : 0;
-    for (int a = colors; a < kColorAttrs; ++a) t.colorC[a] = t.colorDx[a] = t.colorDy[a] = 0.0f;
+    for (int a = colors; a < kColorAttrs; ++a)
+        t.colorC[a] = t.colorDx[a] = t.colorDy[a] = 0.0f;
     for (int a = 0; a < colors; a += 4) {
         if constexpr (kAvx2)
             colorPlanes4Avx2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1, w2,
-                             dc.perspectiveColor, g, &t.colorC[a], &t.colorDx[a], &t.colorDy[a]);
+                             dc.perspectiveColor, g, &t.colorC[a], &t.colorDx[a],
+                             &t.colorDy[a]);
         else
             colorPlanes4Sse2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1, w2,
-                             dc.perspectiveColor, g, &t.colorC[a], &t.colorDx[a], &t.colorDy[a]);
+                             dc.perspectiveColor, g, &t.colorC[a], &t.colorDx[a],
+                             &t.colorDy[a]);
     }
     t.texPlanes = uint32_t(texPool.size());
     if (dc.numAttrs > kColorAttrs) {
@@ -294,16 +313,16 @@ template <bool kAvx2>
         int a = kColorAttrs;
         for (; a + 4 <= dc.numAttrs; a += 4, out += 4) {  // one set per step
             if constexpr (kAvx2)
-                colorPlanes4Avx2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1, w2,
-                                 true, g, c, dx, dy);
+                colorPlanes4Avx2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1,
+                                 w2, true, g, c, dx, dy);
             else
-                colorPlanes4Sse2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1, w2,
-                                 true, g, c, dx, dy);
+                colorPlanes4Sse2(&v[0]->attr[a], &v[1]->attr[a], &v[2]->attr[a], w0, w1,
+                                 w2, true, g, c, dx, dy);
             for (int k = 0; k < 4; ++k) out[k] = Plane{c[k], dx[k], dy[k]};
         }
         for (; a < dc.numAttrs; ++a, ++out)  // a partial set (only programmable varyings)
-            *out = makePlane(v[0]->attr[a] * w0, v[1]->attr[a] * w1, v[2]->attr[a] * w2, g.dx1,
-                             g.dy1, g.dx2, g.dy2, invArea);
+            *out = makePlane(v[0]->attr[a] * w0, v[1]->attr[a] * w1, v[2]->attr[a] * w2,
+                             g.dx1, g.dy1, g.dx2, g.dy2, invArea);
     }
     t.flatDiffuse = flatDiffuse;
     t.flatSpecular = flatSpecular;
@@ -311,29 +330,70 @@ template <bool kAvx2>
     return true;
 }
 
-__attribute__((target("avx2"))) bool setupAvx2(const DrawContext& dc, const ProcessedVertex& v0,
-                                               const ProcessedVertex& v1,
-                                               const ProcessedVertex& v2, Rgba8 flatDiffuse,
-                                               Rgba8 flatSpecular,
-                                               std::vector<SetupTriangle>& out,
-                                               std::vector<Plane>& texPool) {
-    return setupFastBody<true>(dc, v0, v1, v2, flatDiffuse, flatSpecular, out, texPool);
+template <bool kAvx2>
+[[gnu::always_inline]] inline void setupRangeBody(
+    const DrawContext& dc, Primitive primitive, uint32_t begin, uint32_t end,
+    std::span<const uint32_t> indices, std::span<const Vertex> vertices,
+    const ProcessedVertex* processed, std::vector<SetupTriangle>& out,
+    std::vector<Plane>& texPool, GeometryCounters& gc) {
+    out.reserve(out.size() + (end - begin));
+    const bool indexed = !indices.empty();
+    for (uint32_t i = begin; i < end; ++i) {
+        const std::array<uint32_t, 3> tv = triangleVertices(primitive, i);
+        const uint32_t a = indexed ? indices[tv[0]] : tv[0];
+        const uint32_t b = indexed ? indices[tv[1]] : tv[1];
+        const uint32_t c = indexed ? indices[tv[2]] : tv[2];
+        // The provoking vertex's bytes matter only for flat shading.
+        const Rgba8 flatD = dc.gouraud ? Rgba8{} : vertices[a].diffuse;
+        const Rgba8 flatS = dc.gouraud ? Rgba8{} : vertices[a].specular;
+        const ProcessedVertex& pa = processed[a];
+        const ProcessedVertex& pb = processed[b];
+        const ProcessedVertex& pc = processed[c];
+        if (pa.valid && pb.valid && pc.valid &&
+            (pa.outcode | pb.outcode | pc.outcode) == 0) {
+            ++gc.submitted;
+            if (setupFastBody<kAvx2>(dc, pa, pb, pc, flatD, flatS, out, texPool))
+                ++gc.drawn;
+            else
+                ++gc.culled;
+        } else {
+            clipAndSetup(dc, pa, pb, pc, flatD, flatS, out, texPool, gc);
+        }
+    }
 }
 
-bool setupSse2(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
-               const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
-               std::vector<SetupTriangle>& out, std::vector<Plane>& texPool) {
-    return setupFastBody<false>(dc, v0, v1, v2, flatDiffuse, flatSpecular, out, texPool);
+__attribute__((target("avx2"))) void setupRangeAvx2(
+    const DrawContext& dc, Primitive primitive, uint32_t begin, uint32_t end,
+    std::span<const uint32_t> indices, std::span<const Vertex> vertices,
+    const ProcessedVertex* processed, std::vector<SetupTriangle>& out,
+    std::vector<Plane>& texPool, GeometryCounters& gc) {
+    setupRangeBody<true>(dc, primitive, begin, end, indices, vertices, processed, out,
+                         texPool, gc);
+}
+
+void setupRangeSse2(const DrawContext& dc, Primitive primitive, uint32_t begin,
+                    uint32_t end, std::span<const uint32_t> indices,
+                    std::span<const Vertex> vertices, const ProcessedVertex* processed,
+                    std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
+                    GeometryCounters& gc) {
+    setupRangeBody<false>(dc, primitive, begin, end, indices, vertices, processed, out,
+                          texPool, gc);
 }
 
 }  // namespace
 
-bool setupTriangleFast(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
-                       const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
-                       std::vector<SetupTriangle>& out, std::vector<Plane>& texPool) {
+void setupTrianglesFast(const DrawContext& dc, Primitive primitive, uint32_t begin,
+                        uint32_t end, std::span<const uint32_t> indices,
+                        std::span<const Vertex> vertices,
+                        const ProcessedVertex* processed, std::vector<SetupTriangle>& out,
+                        std::vector<Plane>& texPool, GeometryCounters& gc) {
     static const bool avx2 = haveAvx2();
-    return avx2 ? setupAvx2(dc, v0, v1, v2, flatDiffuse, flatSpecular, out, texPool)
-                : setupSse2(dc, v0, v1, v2, flatDiffuse, flatSpecular, out, texPool);
+    if (avx2)
+        setupRangeAvx2(dc, primitive, begin, end, indices, vertices, processed, out,
+                       texPool, gc);
+    else
+        setupRangeSse2(dc, primitive, begin, end, indices, vertices, processed, out,
+                       texPool, gc);
 }
 
 }  // namespace rg::raster::detail

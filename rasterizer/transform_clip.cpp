@@ -178,21 +178,6 @@ void processVertexInto(const DrawContext& dc, const glm::mat4& worldViewProj,
     }
 }
 
-void clipAndSetupFast(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
-                      const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
-                      std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
-                      GeometryCounters& gc) {
-    if (v0.valid && v1.valid && v2.valid && (v0.outcode | v1.outcode | v2.outcode) == 0) {
-        ++gc.submitted;
-        if (setupTriangleFast(dc, v0, v1, v2, flatDiffuse, flatSpecular, out, texPool))
-            ++gc.drawn;
-        else
-            ++gc.culled;
-        return;
-    }
-    clipAndSetup(dc, v0, v1, v2, flatDiffuse, flatSpecular, out, texPool, gc);
-}
-
 void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,
                   const ProcessedVertex& v2, Rgba8 flatDiffuse, Rgba8 flatSpecular,
                   std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
