@@ -2,8 +2,9 @@
 # Sanitizer builds of the test suite (docs/testing.md, "Sanitizers"):
 #
 #   tests/sanitize.sh address   AddressSanitizer + UndefinedBehaviorSanitizer: build-asan/,
-#                               the core suites (test_core, test_rasterizer, test_texunit)
-#                               and the golden-trace replays. CI runs this one.
+#                               the core suites (test_core, test_rasterizer, test_texunit),
+#                               the trace reader and capture (test_trace) and the
+#                               golden-trace replays. CI runs this one.
 #   tests/sanitize.sh thread    ThreadSanitizer: build-tsan/, the threaded pipeline (the
 #                               rasterizer's fast path on several threads: PathsAgree and
 #                               the device tests) and the golden replays on 3 threads.
@@ -15,7 +16,7 @@ cd "$(dirname "$0")/.."
 mode="${1:-address}"
 shift || true
 case "$mode" in
-    address) dir=build-asan; sanitize="address,undefined"; tests=(test_core test_rasterizer test_texunit) ;;
+    address) dir=build-asan; sanitize="address,undefined"; tests=(test_core test_rasterizer test_texunit test_trace) ;;
     thread)  dir=build-tsan; sanitize="thread"; tests=(test_rasterizer test_texunit) ;;
     *) echo "usage: tests/sanitize.sh address|thread [gtest args]" >&2; exit 2 ;;
 esac
