@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <cstring>
 
 #include "addressing.h"
@@ -376,8 +377,10 @@ template <bool kTwoD>
 // pixels, all four channels. Chosen at run time (haveAvx2), as the rasterizer's spans.
 #define RG_AVX2 __attribute__((target("avx2")))
 
+// RETROGLASS_NO_AVX2 (any value) selects the SSE2 kernels, as it does the rasterizer's
+// (PathsAgree.WithoutAvx2 then holds them to the reference end to end).
 bool haveAvx2() {
-    static const bool has = __builtin_cpu_supports("avx2");
+    static const bool has = __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
     return has;
 }
 }  // namespace
