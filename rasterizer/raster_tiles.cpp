@@ -53,7 +53,9 @@ struct Box {
 
 // Covered pixels of row py: [l, r] ∩ box. Edge e is E = R + K·px with
 // R = C + A·half + B·Y and K = A·2^s; E ≥ 0 solved exactly in integers.
-bool rowSpan(const SetupTriangle& t, int py, int s, const Box& box, int& l, int& r) {
+// Always inlined: in spanFill's row loop a call costs the flat fill 2% (measured).
+[[gnu::always_inline]] inline bool rowSpan(const SetupTriangle& t, int py, int s,
+                                           const Box& box, int& l, int& r) {
     const int64_t half = int64_t{1} << (s - 1);
     const int64_t Y = (int64_t(py) << s) + half;
     int64_t lo = box.x0, hi = box.x1;
