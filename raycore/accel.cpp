@@ -124,7 +124,8 @@ Accel::Accel(const Scene& scene) : scene_(scene) {
         rtcReleaseGeometry(g);
         WorldMesh& w = meshes_[oi];
         w.triangles.resize(m.triangleCount());
-        w.faceNormals.resize(m.triangleCount());
+        // One spare element: Accel::surfaces reads each normal as a 16-byte row.
+        w.faceNormals.resize(m.triangleCount() + 1);
         uint32_t part = 0;
         for (size_t t = 0; t < m.triangleCount(); ++t) {
             while (part + 1 < m.parts.size() && m.parts[part + 1].firstTriangle <= t) ++part;
@@ -295,41 +296,55 @@ void Accel::surfaces(const Ray* rays, const Hit* hits, SurfacePoint* out, size_t
     static const Hit noHit{};
     static const Ray noRay{};
     static const TriangleShading noShading{};
-    static const glm::vec3 noNormal{0.0f, 1.0f, 0.0f};
+    alignas(16) static const float noNormal[4] = {0.0f, 1.0f, 0.0f, 0.0f};
+    // The inputs are read as 16-byte rows and transposed, four hits at a time, so that each
+    // register holds one field of four hits:
+    //   Hit             t u v ·            (the first 16 bytes)
+    //   Ray             ox oy oz dx | dy dz tnear tfar
+    //   face normal     x y z ·            (faceNormals has one spare element at its end)
+    //   TriangleShading n0 n1 n2 (9 floats) uv0 uv1 uv2 (6) part — four rows
+    static_assert(offsetof(Hit, t) == 0 && offsetof(Hit, u) == 4 && offsetof(Hit, v) == 8);
+    static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && sizeof(Ray) == 32);
+    static_assert(offsetof(TriangleShading, uv) == 36 && offsetof(TriangleShading, part) == 60);
     for (size_t base = 0; base < n; base += 4) {
         const size_t m = std::min<size_t>(4, n - base);
-        // Lanes are filled from registers (_mm_setr_ps), not through a stack array: four
-        // scalar stores read back as one vector would stall on store forwarding.
         const Hit* h[4];
         const Ray* r[4];
         const TriangleShading* ts[4];
-        const glm::vec3* g[4];
+        const float* g[4];
         for (size_t l = 0; l < 4; ++l) {
             const bool valid = l < m && hits[base + l].valid();
             h[l] = valid ? &hits[base + l] : &noHit;
             r[l] = valid ? &rays[base + l] : &noRay;
             const WorldMesh* w = valid ? &meshes_[h[l]->object] : nullptr;
             ts[l] = valid ? &w->triangles[h[l]->triangle] : &noShading;
-            g[l] = valid ? &w->faceNormals[h[l]->triangle] : &noNormal;
+            g[l] = valid ? &w->faceNormals[h[l]->triangle].x : noNormal;
         }
-        auto lanes = [&](auto get) { return _mm_setr_ps(get(0), get(1), get(2), get(3)); };
-        const __m128 U = lanes([&](int l) { return h[l]->u; });
-        const __m128 V = lanes([&](int l) { return h[l]->v; });
-        const __m128 T = lanes([&](int l) { return h[l]->t; });
+        __m128 hit[4], ray0[4], ray1[4], ng[4], tri[4][4];
+        for (int l = 0; l < 4; ++l) {
+            hit[l] = _mm_loadu_ps(&h[l]->t);
+            ray0[l] = _mm_loadu_ps(&r[l]->origin.x);
+            ray1[l] = _mm_loadu_ps(&r[l]->origin.x + 4);
+            ng[l] = _mm_loadu_ps(g[l]);
+            for (int row = 0; row < 4; ++row)
+                tri[row][l] = _mm_load_ps(reinterpret_cast<const float*>(ts[l]) + 4 * row);
+        }
+        _MM_TRANSPOSE4_PS(hit[0], hit[1], hit[2], hit[3]);
+        _MM_TRANSPOSE4_PS(ray0[0], ray0[1], ray0[2], ray0[3]);
+        _MM_TRANSPOSE4_PS(ray1[0], ray1[1], ray1[2], ray1[3]);
+        _MM_TRANSPOSE4_PS(ng[0], ng[1], ng[2], ng[3]);
+        for (int row = 0; row < 4; ++row) _MM_TRANSPOSE4_PS(tri[row][0], tri[row][1], tri[row][2], tri[row][3]);
+        auto field = [&](int f) { return tri[f / 4][f % 4]; };  // float f of TriangleShading
+        const __m128 T = hit[0], U = hit[1], V = hit[2];
         const __m128 b0 = _mm_sub_ps(_mm_sub_ps(one, U), V);
-        __m128 P[3], G[3], D[3], NS[3], UV[2];
+        const __m128 O[3] = {ray0[0], ray0[1], ray0[2]};
+        __m128 P[3], G[3] = {ng[0], ng[1], ng[2]}, D[3] = {ray0[3], ray1[0], ray1[1]}, NS[3], UV[2];
         for (int c = 0; c < 3; ++c) {
-            G[c] = lanes([&](int l) { return (*g[l])[c]; });
-            D[c] = lanes([&](int l) { return r[l]->dir[c]; });
-            P[c] = add(lanes([&](int l) { return r[l]->origin[c]; }), mul(T, D[c]));
-            NS[c] = add(add(mul(b0, lanes([&](int l) { return ts[l]->normal[0][c]; })),
-                            mul(U, lanes([&](int l) { return ts[l]->normal[1][c]; }))),
-                        mul(V, lanes([&](int l) { return ts[l]->normal[2][c]; })));
+            P[c] = add(O[c], mul(T, D[c]));
+            NS[c] = add(add(mul(b0, field(c)), mul(U, field(3 + c))), mul(V, field(6 + c)));
         }
         for (int c = 0; c < 2; ++c)
-            UV[c] = add(add(mul(b0, lanes([&](int l) { return ts[l]->uv[0][c]; })),
-                            mul(U, lanes([&](int l) { return ts[l]->uv[1][c]; }))),
-                        mul(V, lanes([&](int l) { return ts[l]->uv[2][c]; })));
+            UV[c] = add(add(mul(b0, field(9 + c)), mul(U, field(11 + c))), mul(V, field(13 + c)));
         const __m128 len = _mm_sqrt_ps(dot(NS, NS));
         const __m128 inv = _mm_div_ps(one, len);
         const __m128 positive = _mm_cmpgt_ps(len, zero);  // false for NaN, as in surface()
@@ -351,7 +366,7 @@ void Accel::surfaces(const Ray* rays, const Hit* hits, SurfacePoint* out, size_t
                 continue;
             }
             s.p = {p[0][l], p[1][l], p[2][l]};
-            s.ng = *g[l];
+            s.ng = {g[l][0], g[l][1], g[l][2]};
             s.ns = {ns[0][l], ns[1][l], ns[2][l]};
             s.uv = {st[0][l], st[1][l]};
             s.frontFace = (front >> l) & 1;
