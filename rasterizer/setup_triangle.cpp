@@ -127,21 +127,18 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
     return true;
 }
 
-// ---- the fast path's setup
-// --------------------------------------------------------------- setupTrianglesFast
-// computes every field setupTriangle computes, with the same IEEE operations on the same
-// operands, so the SetupTriangle is bit for bit the same
+// ---- the fast path's setup ---------------------------------------------------------
+// setupTrianglesFast computes every field setupTriangle computes, with the same IEEE
+// operations on the same operands, so the SetupTriangle is bit for bit the same
 // (tests/rasterizer/test_paths_agree.cpp draws every triangle of the fast path through
 // it and compares with the reference path). Two things are cheaper:
 //   - one division for 1/area: 2^2s/area rounds to exactly 1/(area·2^−2s), because
-//   scaling
-//     by a power of two commutes with rounding (no overflow or underflow: 1 ≤ area <
-//     2^50);
+//     scaling by a power of two commutes with rounding (no overflow or underflow:
+//     1 ≤ area < 2^50);
 //   - the colour planes four channels at a time, one channel per 64-bit lane (AVX2 when
-//   the
-//     CPU has it, else two SSE2 registers): sub, mul and the double→float conversion
-//     (round to nearest, as the scalar cast) are lane-wise IEEE operations, and no FMA is
-//     enabled, so each lane is makePlane's arithmetic for its channel.
+//     the CPU has it, else two SSE2 registers): sub, mul and the double→float conversion
+//     (round to nearest, as the scalar cast) are lane-wise IEEE operations, and no FMA
+//     is enabled, so each lane is makePlane's arithmetic for its channel.
 namespace {
 
 struct Geometry {  // what the plane evaluations share
@@ -215,7 +212,7 @@ __attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const flo
 // Set up in a local and append it whole: std::vector's emplace_back() would first zero
 // the 256 bytes (value-initialisation), and so would a plain local (the member
 // initialisers). The local lives in raw storage instead (SetupTriangle is an aggregate,
-// an implicit- lifetime type, so the byte array provides the object, C++20
+// an implicit-lifetime type, so the byte array provides the object, C++20
 // [intro.object]), and every member is written below, with the zero a fresh SetupTriangle
 // holds wherever setup computes nothing.
 template <bool kAvx2>
