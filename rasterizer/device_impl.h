@@ -3,7 +3,6 @@
 #pragma once
 
 #include <algorithm>
-#include <atomic>
 #include <memory>
 #include <string>
 
@@ -36,8 +35,6 @@ struct Device::Impl {
     // memory on every call; contents never carry over.
     std::vector<detail::ProcessedVertex> scratchVertices;
     std::vector<detail::TriangleChunk> scratchChunks;
-    std::unique_ptr<std::atomic<uint8_t>[]> vertexState;  // fast path: lazy vertex stage
-    size_t vertexStateSize = 0;
 
     Impl(const Profile& p, int w, int h, DepthFormat d, DeviceOptions o)
         : profile(p), options(o), fb(checkedFramebuffer(p, w, h, d)) {
