@@ -17,6 +17,7 @@
 #include "pipeline.h"
 #include "rasterizer/fragment_ops.h"
 #include "raster_tiles.h"
+#include "tsan_annotations.h"
 #include "texunit/format.h"
 #include "texunit/program_fetch.h"
 
@@ -612,10 +613,16 @@ void ProgrammableDevice::forEachVertexRange(size_t n, const std::function<void(s
         body(0, n);
         return;
     }
+    [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
+    RG_TSAN_RELEASE(&forkJoin);
     m.arena->execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048),
-                          [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
+            RG_TSAN_ACQUIRE(&forkJoin);
+            body(r.begin(), r.end());
+            RG_TSAN_RELEASE(&forkJoin);
+        });
     });
+    RG_TSAN_ACQUIRE(&forkJoin);
 }
 
 void ProgrammableDevice::finishDraw(ProgramPrimitive primitive, std::span<const uint32_t> indices,
@@ -733,11 +740,16 @@ void ProgrammableDevice::finishDraw(ProgramPrimitive primitive, std::span<const 
     if (m.arena->max_concurrency() <= 1) {
         for (int t = 0; t < tiles; ++t) runTile(t);
     } else {
+        [[maybe_unused]] int forkJoin = 0;
+        RG_TSAN_RELEASE(&forkJoin);
         m.arena->execute([&] {
             tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& r) {
+                RG_TSAN_ACQUIRE(&forkJoin);
                 for (int t = r.begin(); t < r.end(); ++t) runTile(t);
+                RG_TSAN_RELEASE(&forkJoin);
             });
         });
+        RG_TSAN_ACQUIRE(&forkJoin);
     }
     for (const ProgramCounters& c : m.tileCounters) m.counters.add(c);
 }
