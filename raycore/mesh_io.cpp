@@ -6,6 +6,7 @@
 #include <assimp/scene.h>
 
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -21,11 +22,18 @@ Mesh loadMesh(const std::filesystem::path& path) {
     if (std::filesystem::file_size(path, ec) == 0) throw Error(file + ": mesh file is empty");
     // assimp 5.2's PLY reader loops forever when the header never ends (found by
     // fuzz/fuzz_mesh_loader.cpp): a PLY file must have its end_header line in the first MiB.
+    // The check covers every file assimp may hand to that reader: it accepts any file whose
+    // first three bytes are `ply` or `PLY`, whatever follows and whatever the extension (a
+    // .gltf that is not glTF falls through to it). STL is the exception: a binary STL's
+    // 80-byte header is free text, and assimp's STL importer claims .stl by its extension.
     {
         std::ifstream in(path, std::ios::binary);
         std::string head(4, '\0');
         in.read(head.data(), 4);
-        if (in && head.compare(0, 3, "ply") == 0 && (head[3] == '\n' || head[3] == '\r')) {
+        std::string ext = path.extension().string();
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        const bool plyMagic = head.compare(0, 3, "ply") == 0 || head.compare(0, 3, "PLY") == 0;
+        if (in.gcount() >= 3 && plyMagic && ext != ".stl") {
             head.resize(1 << 20);
             in.read(head.data() + 4, std::streamsize(head.size() - 4));
             head.resize(4 + size_t(in.gcount()));
