@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The golden hashes under GCC and Clang, Debug and Release (docs/testing.md, "Compilers"):
 # four build folders (build-gcc-debug, build-gcc-release, build-clang-debug,
-# build-clang-release), each building only retroglass_golden and test_trace, then every
+# build-clang-release), each building only retroglass_golden, test_trace and
+# test_programmable, then every
 # golden trace checked against tests/golden/manifest.txt on both paths and 1/3 threads,
 # and the capture-fidelity test. Exit status 0 when all four agree with the manifest.
 set -euo pipefail
@@ -16,7 +17,7 @@ for cc in gcc clang; do
             cmake -S . -B "$dir" "${gen[@]}" -DCMAKE_BUILD_TYPE="$type" -DCMAKE_C_COMPILER="$c" \
                 -DCMAKE_CXX_COMPILER="$cxx" -DRETROGLASS_BENCH=OFF >/dev/null
         fi
-        cmake --build "$dir" --target retroglass_golden test_trace >&2
+        cmake --build "$dir" --target retroglass_golden test_trace test_programmable >&2
         bad=0
         while read -r name hash _; do
             case "$name" in ''|\#*) continue ;; esac
@@ -26,6 +27,8 @@ for cc in gcc clang; do
             }
         done < tests/golden/manifest.txt
         "$dir/bin/test_trace" --gtest_brief=1 >/dev/null || { echo "compilers: $cc $type: test_trace failed"; bad=1; }
+        # The programmable profile's pinned frame hash (ProgrammablePathsAgree.*Twin*).
+        "$dir/bin/test_programmable" --gtest_brief=1 >/dev/null || { echo "compilers: $cc $type: test_programmable failed"; bad=1; }
         [ $bad = 0 ] && echo "compilers: $cc $type: every golden hash holds" || status=1
     done
 done

@@ -3,11 +3,13 @@
 #
 #   tests/sanitize.sh address   AddressSanitizer + UndefinedBehaviorSanitizer: build-asan/,
 #                               the core suites (test_core, test_rasterizer, test_texunit),
-#                               the trace reader and capture (test_trace) and the
+#                               the trace reader and capture (test_trace), the
+#                               programmable profile (test_programmable) and the
 #                               golden-trace replays. CI runs this one.
 #   tests/sanitize.sh thread    ThreadSanitizer: build-tsan/, the threaded pipeline (the
-#                               rasterizer's fast path on several threads: PathsAgree and
-#                               the device tests) and the golden replays on 3 threads.
+#                               rasterizer's and the programmable device's fast paths on
+#                               several threads: PathsAgree and the device tests) and the
+#                               golden replays on 3 threads.
 #
 # Extra arguments go to every GoogleTest executable (e.g. --gtest_filter=Blend*).
 # RETROGLASS_SANITIZE_JOBS sets the build parallelism (default: all cores).
@@ -16,8 +18,8 @@ cd "$(dirname "$0")/.."
 mode="${1:-address}"
 shift || true
 case "$mode" in
-    address) dir=build-asan; sanitize="address,undefined"; tests=(test_core test_rasterizer test_texunit test_trace) ;;
-    thread)  dir=build-tsan; sanitize="thread"; tests=(test_rasterizer test_texunit) ;;
+    address) dir=build-asan; sanitize="address,undefined"; tests=(test_core test_rasterizer test_texunit test_trace test_programmable) ;;
+    thread)  dir=build-tsan; sanitize="thread"; tests=(test_rasterizer test_texunit test_programmable) ;;
     *) echo "usage: tests/sanitize.sh address|thread [gtest args]" >&2; exit 2 ;;
 esac
 say() { printf 'sanitize(%s): %s\n' "$mode" "$*" >&2; }
