@@ -40,7 +40,7 @@ inline Rgba8 colorPlanesToBytesSse(const float* c, const float* dx, const float*
     i = _mm_packus_epi16(i, i);
     uint32_t bits = uint32_t(_mm_cvtsi128_si32(i));
     Rgba8 out;
-    std::memcpy(&out, &bits, 4);
+    std::memcpy(static_cast<void*>(&out), &bits, 4);
     return out;
 }
 

@@ -76,15 +76,17 @@ std::string ProgramCounters::toString() const {
 
 // ---- fragment context: texture instructions ---------------------------------------------
 
-void FragmentContext::undeclaredUnit(int u) const {
-    throw InvalidState("fragment program reads texture unit " + std::to_string(u) +
-                       ", which it does not declare in kUnits");
+namespace {
+// A program used a unit or target its type does not declare (kUnits, kTargets).
+[[noreturn]] void undeclared(const char* program, bool unit, int index) {
+    throw InvalidState(std::string(program) + (unit ? " reads texture unit " : " writes render target ") +
+                       std::to_string(index) + ", which it does not declare in " +
+                       (unit ? "kUnits" : "kTargets"));
 }
+}  // namespace
 
-void FragmentContext::undeclaredTarget(int target) const {
-    throw InvalidState("fragment program writes render target " + std::to_string(target) +
-                       ", which it does not declare in kTargets");
-}
+void FragmentContext::undeclaredUnit(int u) const { undeclared("fragment program", true, u); }
+void FragmentContext::undeclaredTarget(int target) const { undeclared("fragment program", false, target); }
 
 glm::vec4 FragmentContext::sample(int u, int k) {
     const detail::BoundUnit& b = unit(u);
@@ -125,15 +127,8 @@ float FragmentContext::sampleCompare(int u, const glm::vec4& c, float ref) {
 
 // ---- quad context -------------------------------------------------------------------------
 
-void QuadContext::undeclaredTarget(int target) const {
-    throw InvalidState("quad program writes render target " + std::to_string(target) +
-                       ", which it does not declare in kTargets");
-}
-
-void QuadContext::undeclaredUnit(int u) const {
-    throw InvalidState("quad program reads texture unit " + std::to_string(u) +
-                       ", which it does not declare in kUnits");
-}
+void QuadContext::undeclaredTarget(int target) const { undeclared("quad program", false, target); }
+void QuadContext::undeclaredUnit(int u) const { undeclared("quad program", true, u); }
 
 Vec4x4 QuadContext::sample(int u, int k, Mask4 m) {
     const detail::BoundUnit& b = unit(u);
@@ -200,17 +195,7 @@ float storedDepth(const ProgramDraw& d, double z) {
 }
 
 bool depthPasses(CompareFunc f, float incoming, float stored) {
-    switch (f) {
-        case CompareFunc::Never: return false;
-        case CompareFunc::Less: return incoming < stored;
-        case CompareFunc::Equal: return incoming == stored;
-        case CompareFunc::LessEqual: return incoming <= stored;
-        case CompareFunc::Greater: return incoming > stored;
-        case CompareFunc::NotEqual: return incoming != stored;
-        case CompareFunc::GreaterEqual: return incoming >= stored;
-        case CompareFunc::Always: return true;
-    }
-    return false;
+    return comparePasses(f, incoming, stored);
 }
 
 namespace {
@@ -321,7 +306,7 @@ void mergeQuad(const ProgramDraw& d, int qx, int qy, const QuadContext& f, uint3
             for (int p = 0; p < 4; ++p) {
                 if (!((lanes >> p) & 1u)) continue;
                 const size_t i = size_t(qy + (p >> 1)) * size_t(t.width) + size_t(qx + (p & 1));
-                std::memcpy(&t.data8[i], &v[p], 4);  // Rgba8 is r, g, b, a in memory
+                std::memcpy(static_cast<void*>(&t.data8[i]), &v[p], 4);  // Rgba8 is r, g, b, a in memory
             }
             continue;
         }

@@ -431,73 +431,8 @@ TEST(ProgrammablePoints, SquareOfPointSizeWithPointCoordinates) {
     EXPECT_EQ(covered, 16);
 }
 
-// ---- the binary search of Davis & Wyman (tir) -------------------------------------------------
-
-struct BinarySearchFP {
-    static constexpr int kVaryings = 1;
-    static constexpr uint32_t kTargets = 1;
-    static constexpr uint32_t kUnits = 1;
-    static constexpr bool kWritesDepth = false;
-    int steps = 8;
-    void operator()(FragmentContext& f) const {
-        const glm::vec4 uv = f.varying(0);
-        const glm::vec3 a(uv.x, uv.y, 0.0f), b(uv.x + 0.125f, uv.y + 0.0625f, 1.0f);
-        float lo = 0.0f, hi = 1.0f, d = 0.0f;
-        for (int i = 0; i < steps; ++i) {
-            const float mid = 0.5f * (lo + hi);
-            const glm::vec3 p = a + (b - a) * mid;
-            d = f.sampleLevel(0, glm::vec4(p.x, p.y, 0, 0), 0.0f).x;
-            if (p.z > d) hi = mid; else lo = mid;
-        }
-        f.output(0, glm::vec4(0.5f * (lo + hi), d, 0.0f, 1.0f));
-    }
-};
-
-TEST(ProgrammableSearch, BinarySearchMatchesAScalarOracle) {
-    Fixture fx;
-    const int N = 64;
-    TextureDesc dd;
-    dd.format = TexelFormat::R32F;
-    dd.width = dd.height = N;
-    auto heights = fx.memory->create(dd);
-    std::vector<uint8_t> bytes(size_t(N) * N * 4);
-    std::vector<float> h(size_t(N) * N);
-    for (int j = 0; j < N; ++j)
-        for (int i = 0; i < N; ++i) {
-            h[size_t(j * N + i)] = float(0.5 + 0.25 * std::sin(0.2 * i) * std::cos(0.3 * j));
-            std::memcpy(&bytes[size_t(j * N + i) * 4], &h[size_t(j * N + i)], 4);
-        }
-    fx.memory->upload(*heights, 0, 0, bytes);
-    auto rt = fx.target(N, N, TexelFormat::RGBA32F);
-    ProgrammableDevice dev(g80());
-    ColorTarget ct{rt};
-    dev.setRenderTargets({&ct, 1});
-    tex::SamplerState s;
-    s.magFilter = s.minFilter = tex::FilterMode::Nearest;
-    dev.setTexture(0, heights, s);
-    auto verts = rect(N, N, 0, 0, N, N, 0.5f, {0, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}, {1, 1, 0, 1});
-    dev.draw(PassVP{}, BinarySearchFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
-    int mismatches = 0;
-    for (int y = 0; y < N; ++y)
-        for (int x = 0; x < N; ++x) {
-            // The oracle with the exact texel centres as its coordinates.
-            const float u = (x + 0.5f) / N, v = (y + 0.5f) / N;
-            float lo = 0, hi = 1, d = 0;
-            for (int i = 0; i < 8; ++i) {
-                const float mid = 0.5f * (lo + hi);
-                const float px = u + 0.125f * mid, py = v + 0.0625f * mid;
-                const int ix = int(std::floor(px * N)) & (N - 1), iy = int(std::floor(py * N)) & (N - 1);
-                d = h[size_t(iy * N + ix)];
-                if (mid > d) hi = mid; else lo = mid;
-            }
-            const glm::vec4 got = rt->renderDataF(0, 0)[y * N + x];
-            if (got.x != 0.5f * (lo + hi) || got.y != d) ++mismatches;
-        }
-    // The interpolated uv may differ from (x + ½)/N by an ulp, which moves a sample across a
-    // texel edge only where p lands on one: allow a handful of such pixels.
-    EXPECT_LE(mismatches, N * N / 100) << mismatches << " of " << N * N;
-    EXPECT_EQ(dev.counters().textureFetches, uint64_t(8 * N * N));
-}
+// ---- the binary search of Davis & Wyman (tir): tests/programmable/test_binary_search.cpp
+// checks the benchmark's search program against the workload's scalar reference exactly.
 
 // ---- reference and fast paths, thread counts -------------------------------------------------
 

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include "core/arith8.h"
 #include "core/color.h"
@@ -18,7 +19,10 @@ namespace rg::raster {
 
 // ---- compare functions (D3DCMPFUNC), shared by the alpha and depth tests --------------
 // `incoming FUNC stored`: LESS passes when the fragment's value is below the reference.
-constexpr bool comparePasses(CompareFunc f, uint32_t incoming, uint32_t reference) {
+// One definition for integer values (alpha, fixed-point depth) and for the programmable
+// profile's float depth: T comes from `incoming`, `reference` converts to it.
+template <class T>
+constexpr bool comparePasses(CompareFunc f, T incoming, std::type_identity_t<T> reference) {
     switch (f) {
         case CompareFunc::Never: return false;
         case CompareFunc::Less: return incoming < reference;
