@@ -140,8 +140,7 @@ Vec4x4 QuadContext::sample(int u, int k, Mask4 m) {
         if ((lanes >> i) & 1u)
             t[size_t(i)] = tex::programFetch(*b.texture, b.sampler, q[size_t(i)], lambda, setup_->path,
                                              fetches_[size_t(i)]);
-    return {Float4::lanes(t[0].x, t[1].x, t[2].x, t[3].x), Float4::lanes(t[0].y, t[1].y, t[2].y, t[3].y),
-            Float4::lanes(t[0].z, t[1].z, t[2].z, t[3].z), Float4::lanes(t[0].w, t[1].w, t[2].w, t[3].w)};
+    return Vec4x4::fromLanes(t);
 }
 
 Float4 QuadContext::sampleCompare(int u, const Vec4x4& c, Float4 ref, Mask4 m) {
@@ -177,16 +176,15 @@ Vec4x4 QuadContext::sampleLevelLanes(const detail::BoundUnit& b, const Vec4x4& c
         t[size_t(i)] = tex::programFetch(*b.texture, b.sampler, glm::vec4(cx[i], cy[i], cz[i], cw[i]), lambda,
                                          setup_->path, fetches_[size_t(i)]);
     }
-    return {Float4::lanes(t[0].x, t[1].x, t[2].x, t[3].x), Float4::lanes(t[0].y, t[1].y, t[2].y, t[3].y),
-            Float4::lanes(t[0].z, t[1].z, t[2].z, t[3].z), Float4::lanes(t[0].w, t[1].w, t[2].w, t[3].w)};
+    return Vec4x4::fromLanes(t);
 }
 
 // ---- output merger ------------------------------------------------------------------------
 
 namespace detail {
 
-float storedDepth(const ProgramDraw& d, double z) {
-    if (d.depthD24) {
+float storedDepth(bool depthD24, double z) {
+    if (depthD24) {
         const uint32_t q = quantizeDepth(z, (1u << 24) - 1u);
         return float(double(q) / double((1u << 24) - 1u));
     }
@@ -345,6 +343,24 @@ struct ProgrammableDevice::Impl {
         int n = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
         arena = std::make_unique<tbb::task_arena>(std::max(1, n));
     }
+    // Clears write `value` to every texel of viewport ∩ scissor of a level's data.
+    template <class T>
+    void fillClearRect(T* data, const T& value) const {
+        int64_t x0 = viewport.x, y0 = viewport.y;
+        int64_t x1 = int64_t(viewport.x) + viewport.width, y1 = int64_t(viewport.y) + viewport.height;
+        if (scissorOn) {
+            x0 = std::max<int64_t>(x0, scissor.x);
+            y0 = std::max<int64_t>(y0, scissor.y);
+            x1 = std::min<int64_t>(x1, int64_t(scissor.x) + scissor.width);
+            y1 = std::min<int64_t>(y1, int64_t(scissor.y) + scissor.height);
+        }
+        x0 = std::clamp<int64_t>(x0, 0, width);
+        x1 = std::clamp<int64_t>(x1, 0, width);
+        y0 = std::clamp<int64_t>(y0, 0, height);
+        y1 = std::clamp<int64_t>(y1, 0, height);
+        for (int64_t y = y0; y < y1; ++y)
+            std::fill(data + y * width + x0, data + y * width + x1, value);
+    }
     void requireTargets() const {
         if (width == 0) throw InvalidState("no render target attached (setRenderTargets)");
     }
@@ -465,57 +481,27 @@ void ProgrammableDevice::setTexture(int unit, std::shared_ptr<const tex::Texture
 void ProgrammableDevice::beginFrame() { impl_->counters = ProgramCounters{}; }
 const ProgramCounters& ProgrammableDevice::counters() const { return impl_->counters; }
 
-namespace {
-// The pixels a clear touches: viewport ∩ scissor.
-void clearRect(const Viewport& vp, bool scissorOn, const Rect& sc, int w, int h, int& x0, int& y0,
-               int& x1, int& y1) {
-    int64_t a = vp.x, b = vp.y, c = int64_t(vp.x) + vp.width, d = int64_t(vp.y) + vp.height;
-    if (scissorOn) {
-        a = std::max<int64_t>(a, sc.x);
-        b = std::max<int64_t>(b, sc.y);
-        c = std::min<int64_t>(c, int64_t(sc.x) + sc.width);
-        d = std::min<int64_t>(d, int64_t(sc.y) + sc.height);
-    }
-    x0 = int(std::clamp<int64_t>(a, 0, w));
-    y0 = int(std::clamp<int64_t>(b, 0, h));
-    x1 = int(std::clamp<int64_t>(c, 0, w));
-    y1 = int(std::clamp<int64_t>(d, 0, h));
-}
-}  // namespace
 
 void ProgrammableDevice::clearColor(int target, const glm::vec4& value) {
     Impl& m = *impl_;
     if (target < 0 || size_t(target) >= m.colors.size())
         throw InvalidState("clear of render target " + std::to_string(target) + ", which is not attached");
     const ColorTarget& ct = m.colors[size_t(target)];
-    int x0, y0, x1, y1;
-    clearRect(m.viewport, m.scissorOn, m.scissor, m.width, m.height, x0, y0, x1, y1);
     tex::Texture& t = *ct.texture;
-    if (!t.isFloat()) {
-        const Rgba8 v = tex::floatToRgba8(value);
-        Rgba8* p = t.renderData8(ct.level, ct.face);
-        for (int y = y0; y < y1; ++y) std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, v);
-    } else if (t.singleChannel()) {
-        const float v = detail::toStored(t.desc().format, value).x;
-        float* p = t.renderDataR(ct.level, ct.face);
-        for (int y = y0; y < y1; ++y) std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, v);
-    } else {
-        const glm::vec4 v = detail::toStored(t.desc().format, value);
-        glm::vec4* p = t.renderDataF(ct.level, ct.face);
-        for (int y = y0; y < y1; ++y) std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, v);
-    }
+    if (!t.isFloat())
+        m.fillClearRect(t.renderData8(ct.level, ct.face), tex::floatToRgba8(value));
+    else if (t.singleChannel())
+        m.fillClearRect(t.renderDataR(ct.level, ct.face), detail::toStored(t.desc().format, value).x);
+    else
+        m.fillClearRect(t.renderDataF(ct.level, ct.face), detail::toStored(t.desc().format, value));
 }
 
 void ProgrammableDevice::clearDepth(float value) {
     Impl& m = *impl_;
     if (!m.depth.texture) throw InvalidState("depth clear without a depth target");
-    detail::ProgramDraw d;
-    d.depthD24 = m.depth.texture->desc().format == tex::TexelFormat::Depth24;
-    const float z = detail::storedDepth(d, double(value));
-    int x0, y0, x1, y1;
-    clearRect(m.viewport, m.scissorOn, m.scissor, m.width, m.height, x0, y0, x1, y1);
-    float* p = m.depth.texture->renderDataR(m.depth.level, m.depth.face);
-    for (int y = y0; y < y1; ++y) std::fill(p + size_t(y) * m.width + x0, p + size_t(y) * m.width + x1, z);
+    const bool d24 = m.depth.texture->desc().format == tex::TexelFormat::Depth24;
+    m.fillClearRect(m.depth.texture->renderDataR(m.depth.level, m.depth.face),
+                    detail::storedDepth(d24, double(value)));
 }
 
 detail::ProgramDraw& ProgrammableDevice::beginDraw(int varyings, uint32_t targets, uint32_t units,

@@ -71,7 +71,7 @@ struct ProgramDraw {
 // The depth value the attachment stores for window z (docs/hardware.md): Depth24
 // round(clamp(z)·(2^24 − 1)) / (2^24 − 1) rounded to float (a one-to-one, monotonic map
 // of the 24-bit values, so float compares are integer compares); Depth32F clamp(z).
-float storedDepth(const ProgramDraw& d, double z);
+float storedDepth(bool depthD24, double z);
 bool depthPasses(CompareFunc f, float incoming, float stored);
 // The output merger for one fragment at pixel (x, y): blend and write every target the
 // program wrote.
@@ -134,7 +134,7 @@ inline void shadeFragment(const FP& fp, const ProgramDraw& d, const ProgramTrian
                      t.zdy * ((double(py) + 0.5) - double(t.y0));
     float* depthTexel =
         d.depthData ? d.depthData + size_t(py) * size_t(d.depthWidth) + size_t(px) : nullptr;
-    float zStore = depthTexel ? storedDepth(d, z) : 0.0f;
+    float zStore = depthTexel ? storedDepth(d.depthD24, z) : 0.0f;
     // Early depth test: a program that does not write depth cannot change the outcome.
     if (!FP::kWritesDepth && depthTexel && d.depthTest && !depthPasses(d.depthFunc, zStore, *depthTexel)) {
         ++c.fragmentsDepthFailed;
@@ -150,7 +150,7 @@ inline void shadeFragment(const FP& fp, const ProgramDraw& d, const ProgramTrian
         return;
     }
     if (FP::kWritesDepth && depthTexel) {
-        zStore = storedDepth(d, double(f.depthValue()));
+        zStore = storedDepth(d.depthD24, double(f.depthValue()));
         if (d.depthTest && !depthPasses(d.depthFunc, zStore, *depthTexel)) {
             ++c.fragmentsDepthFailed;
             return;
@@ -180,7 +180,7 @@ inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const ProgramTria
         if (!((mask >> p) & 1u)) continue;
         ++c.fragmentsGenerated;
         if (d.depthData) {
-            zStore[p] = storedDepth(d, z);
+            zStore[p] = storedDepth(d.depthD24, z);
             const float stored = d.depthData[size_t(py) * size_t(d.depthWidth) + size_t(px)];
             if (d.depthTest && !depthPasses(d.depthFunc, zStore[p], stored)) {
                 ++c.fragmentsDepthFailed;

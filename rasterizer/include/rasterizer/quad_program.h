@@ -114,6 +114,11 @@ struct Vec4x4 {
     Float4 x, y, z, w;
     Vec4x4() = default;
     Vec4x4(Float4 a, Float4 b, Float4 c, Float4 d) : x(a), y(b), z(c), w(d) {}
+    // Four per-pixel vectors (lane i = pixel i) as one vector of lanes.
+    static Vec4x4 fromLanes(const std::array<glm::vec4, 4>& p) {
+        return {Float4::lanes(p[0].x, p[1].x, p[2].x, p[3].x), Float4::lanes(p[0].y, p[1].y, p[2].y, p[3].y),
+                Float4::lanes(p[0].z, p[1].z, p[2].z, p[3].z), Float4::lanes(p[0].w, p[1].w, p[2].w, p[3].w)};
+    }
     Vec3x4 xyz() const { return {x, y, z}; }
     glm::vec4 lane(int i) const { return {x[i], y[i], z[i], w[i]}; }
     friend Vec4x4 operator+(const Vec4x4& a, const Vec4x4& b) {
@@ -138,11 +143,7 @@ inline Vec4x4 select(Mask4 m, const Vec4x4& a, const Vec4x4& b) {
 class QuadContext {
   public:
     Mask4 active() const { return Mask4::fromBits(active_ & ~discarded_); }
-    Vec4x4 varying(int k) const {
-        const auto& q = quad_->v[size_t(k)];
-        return {Float4::lanes(q[0].x, q[1].x, q[2].x, q[3].x), Float4::lanes(q[0].y, q[1].y, q[2].y, q[3].y),
-                Float4::lanes(q[0].z, q[1].z, q[2].z, q[3].z), Float4::lanes(q[0].w, q[1].w, q[2].w, q[3].w)};
-    }
+    Vec4x4 varying(int k) const { return Vec4x4::fromLanes(quad_->v[size_t(k)]); }
     // Pixel centres, window z and 1/w per lane (gl_FragCoord).
     const Vec4x4& fragCoord() const { return fragCoord_; }
 
