@@ -11,6 +11,7 @@
 
 #include "fragment_quad.h"
 #include "fragment_quad_sse.h"
+#include "fragment_quad_textured.h"
 #include "raster_span_avx2.h"
 
 namespace rg::raster::detail {
@@ -209,9 +210,10 @@ bool inOneQuad(const Box& b) { return b.x1 <= (b.x0 | 1) && b.y1 <= (b.y0 | 1); 
 // cheaper than solving row spans with divisions. Wide boxes: exact row spans.
 constexpr int kSpanWalkMinWidth = 16;
 
-// The quads of one triangle inside `box`. Pass-through quads wholly inside the target go
-// to the SSE2 kernel (it loads and stores both rows of the quad), the rest to the scalar
-// template; both compute what processQuad<false, ...> (the reference) computes.
+// The quads of one triangle inside `box`. Quads wholly inside the target go to the SSE2
+// kernels (they load and store both rows of the quad; fragment_quad_textured.h for quads
+// with texture stages), the rest to the scalar template; all compute what
+// processQuad<false, ...> (the reference) computes.
 template <bool kDepth, int kBlendMode, bool kPassThrough>
 void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPool, const Box& box,
               RasterCounters& rc) {
@@ -221,24 +223,37 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
     sse::Planes planes;
     sse::RowTerms row;
     std::optional<tex::FragmentQuad> fragment;  // one per triangle for the texture stages
-    if constexpr (!kPassThrough) fragment.emplace();
+    std::optional<sse::TexPlanes> tplanes;      // textured quads: their coordinate planes
+    std::optional<sse::TexRowTerms> trow;
+    if constexpr (!kPassThrough) {
+        fragment.emplace();
+        tplanes.emplace().load(texPool + t.texPlanes, dc.numTexSets);
+        trow.emplace();
+        planes.load(t, dc.gouraud ? (dc.needSpecular ? 8 : 4) : 0);  // 1/w: every quad
+    }
     // The AVX2 runs cover Gouraud colour without the specular add (raster_span_avx2.h).
     const bool useAvx2 = kPassThrough && dc.gouraud && !dc.st.specularEnable && haveAvx2();
     if constexpr (kPassThrough)
         if (dc.gouraud) planes.load(t, dc.st.specularEnable ? 8 : 4);
     auto quad = [&](int qx, int qy, unsigned coverage) {
-        if constexpr (kPassThrough) {
-            if (qx + 1 < fbW && qy + 1 < fbH) {
+        if (qx + 1 < fbW && qy + 1 < fbH) {
+            if constexpr (kPassThrough)
                 processQuadSse<kDepth, kBlendMode>(dc, t, planes, row, qx, qy, coverage, rc);
-                return;
-            }
+            else
+                processTexturedQuadSse<kDepth, kBlendMode>(dc, t, planes, row, *tplanes, *trow,
+                                                           qx, qy, coverage, *fragment, rc);
+            return;
         }
         processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, texPool, qx, qy, coverage, rc,
                                                         kPassThrough ? nullptr : &*fragment);
     };
     auto startRow = [&](int qy) {
-        if constexpr (kPassThrough)
+        if constexpr (kPassThrough) {
             if (dc.gouraud) row.load(planes, t, qy);
+        } else {
+            row.load(planes, t, qy);
+            trow->load(*tplanes, row.fy);
+        }
     };
 
     if (box.x1 - box.x0 + 1 < kSpanWalkMinWidth) {
