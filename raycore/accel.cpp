@@ -282,6 +282,14 @@ SurfacePoint Accel::surface(const Ray& ray, const Hit& hit) const {
 }
 
 void Accel::surfaces(const Ray* rays, const Hit* hits, SurfacePoint* out, size_t n) const {
+    static const bool avx2 = avx2Available();
+    if (avx2)
+        surfacesAvx2(rays, hits, out, n);
+    else
+        surfacesSse2(rays, hits, out, n);
+}
+
+void Accel::surfacesSse2(const Ray* rays, const Hit* hits, SurfacePoint* out, size_t n) const {
     // Lane for lane the operations of surface(), in its order (glm evaluates a + b + c as
     // (a + b) + c and dot(a, b) as (a.x·b.x + a.y·b.y) + a.z·b.z); SSE's sqrt, division and
     // arithmetic round like the scalar instructions, and negation is the same sign flip.

@@ -2,7 +2,11 @@
 // edges and vertices (robust mode), all-intersections with duplicates removed, packets.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <cmath>
 
@@ -168,6 +172,40 @@ TEST(Accel, PacketsAgreeWithSingleRays) {
     for (int i = 0; i < 5; ++i) EXPECT_EQ(part[i].object, h16[i].object);
 }
 
+// Each batch kernel (and surfaces(), whichever it picks) against surface(), bit for bit;
+// every count from 1 to 17 too, so every partial group of four and of eight is seen.
+void expectSurfacesMatch(const Accel& accel, const std::vector<Ray>& rays, const std::vector<Hit>& hits) {
+    using Kernel = void (Accel::*)(const Ray*, const Hit*, SurfacePoint*, size_t) const;
+    std::vector<std::pair<const char*, Kernel>> kernels = {{"surfaces", &Accel::surfaces},
+                                                           {"surfacesSse2", &Accel::surfacesSse2}};
+    if (Accel::avx2Available()) kernels.push_back({"surfacesAvx2", &Accel::surfacesAvx2});
+    for (const auto& [name, kernel] : kernels) {
+        for (size_t count : {rays.size(), size_t(1), size_t(3), size_t(5), size_t(7), size_t(9), size_t(17)}) {
+            SCOPED_TRACE(std::string(name) + ", " + std::to_string(count) + " hits");
+            const size_t offset = rays.size() > 40 ? 13 : 0;  // not at the start of a group
+            const size_t n = count == rays.size() ? count : std::min(count, rays.size() - offset);
+            const size_t first = count == rays.size() ? 0 : offset;
+            std::vector<SurfacePoint> batch(n + 1);
+            batch[n].object = 0xdeadbeefu;  // must stay untouched
+            (accel.*kernel)(rays.data() + first, hits.data() + first, batch.data(), n);
+            EXPECT_EQ(batch[n].object, 0xdeadbeefu) << "wrote past the end";
+            for (size_t k = 0; k < n; ++k) {
+                const size_t i = first + k;
+                const SurfacePoint a = accel.surface(rays[i], hits[i]), &b = batch[k];
+                EXPECT_EQ(std::memcmp(&a.p, &b.p, sizeof a.p), 0) << i;
+                EXPECT_EQ(std::memcmp(&a.ng, &b.ng, sizeof a.ng), 0) << i;
+                EXPECT_EQ(std::memcmp(&a.ns, &b.ns, sizeof a.ns), 0) << i;
+                EXPECT_EQ(std::memcmp(&a.uv, &b.uv, sizeof a.uv), 0) << i;
+                EXPECT_EQ(a.frontFace, b.frontFace) << i;
+                EXPECT_EQ(a.object, b.object) << i;
+                EXPECT_EQ(a.triangle, b.triangle) << i;
+                EXPECT_EQ(a.part, b.part) << i;
+                EXPECT_EQ(a.material, b.material) << i;
+            }
+        }
+    }
+}
+
 // The batched hit resolution (SSE lanes) against the scalar one, bit for bit: rays from
 // the camera and from points inside and around the teapot in every direction (front and
 // back faces, the room's parts), misses, and a count that leaves a partial group.
@@ -193,23 +231,63 @@ TEST(Accel, SurfacesMatchSurfaceBitForBit) {
     for (size_t i = 0; i < rays.size(); ++i) hits[i] = accel.intersect(rays[i]);
     hits[3] = Hit();  // misses in the middle of a group
     hits[rays.size() - 2] = Hit();
-    std::vector<SurfacePoint> batch(rays.size());
-    accel.surfaces(rays.data(), hits.data(), batch.data(), rays.size());
     int back = 0;
-    for (size_t i = 0; i < rays.size(); ++i) {
-        const SurfacePoint a = accel.surface(rays[i], hits[i]), &b = batch[i];
-        EXPECT_EQ(std::memcmp(&a.p, &b.p, sizeof a.p), 0) << i;
-        EXPECT_EQ(std::memcmp(&a.ng, &b.ng, sizeof a.ng), 0) << i;
-        EXPECT_EQ(std::memcmp(&a.ns, &b.ns, sizeof a.ns), 0) << i;
-        EXPECT_EQ(std::memcmp(&a.uv, &b.uv, sizeof a.uv), 0) << i;
-        EXPECT_EQ(a.frontFace, b.frontFace) << i;
-        EXPECT_EQ(a.object, b.object) << i;
-        EXPECT_EQ(a.triangle, b.triangle) << i;
-        EXPECT_EQ(a.part, b.part) << i;
-        EXPECT_EQ(a.material, b.material) << i;
-        back += hits[i].valid() && !a.frontFace;
-    }
+    for (size_t i = 0; i < rays.size(); ++i) back += hits[i].valid() && !accel.surface(rays[i], hits[i]).frontFace;
     EXPECT_GT(back, 10) << "no back faces exercised";
+    expectSurfacesMatch(accel, rays, hits);
+}
+
+// The same on made-up hits: any object and triangle, barycentrics anywhere in the triangle
+// (its edges and corners included), any ray and distance, misses scattered through. An
+// extra object has vertex normals that cancel (the interpolated normal has length zero at
+// the midpoint of an edge: the geometric-normal fallback) and normals against its winding
+// (the flip).
+TEST(Accel, SurfacesMatchSurfaceOnRandomHits) {
+    Scene s = makeBuiltinScene("teapot-in-room");
+    Mesh odd;
+    odd.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+    odd.normals = {{0, 0, 1}, {0, 0, -1}, {0, 0, -1}, {0, 0, -1}};
+    odd.uvs = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+    odd.indices = {0, 1, 2, 1, 3, 2};
+    s.addObject("odd normals", s.addMesh(odd), 0);
+    Accel accel(s);
+    uint32_t state = 2463534242u;
+    auto bits = [&] {  // xorshift: fixed sequence
+        state ^= state << 13, state ^= state >> 17, state ^= state << 5;
+        return state;
+    };
+    auto unit = [&] { return float(bits() >> 8) / 16777216.0f; };
+    auto coordinate = [&] {  // now and then exactly 0, 1 or ½
+        const uint32_t k = bits() % 16;
+        return k == 0 ? 0.0f : k == 1 ? 1.0f : k == 2 ? 0.5f : unit();
+    };
+    std::vector<Ray> rays;
+    std::vector<Hit> hits;
+    for (int i = 0; i < 4000; ++i) {
+        Ray r;
+        r.origin = {8.0f * unit() - 4.0f, 8.0f * unit() - 4.0f, 8.0f * unit() - 4.0f};
+        r.dir = glm::normalize(glm::vec3(unit() - 0.5f, unit() - 0.5f, unit() - 0.5f) + 1e-6f);
+        Hit h;
+        if (bits() % 20 != 0) {
+            h.object = i % 7 == 0 ? uint32_t(s.objects.size() - 1) : bits() % uint32_t(s.objects.size());
+            h.triangle = bits() % uint32_t(s.meshes[s.objects[h.object].mesh].triangleCount());
+            h.u = coordinate();
+            h.v = coordinate() * (1.0f - h.u);
+            h.t = 10.0f * unit();
+        }
+        rays.push_back(r);
+        hits.push_back(h);
+    }
+    int fallback = 0, flipped = 0;
+    for (size_t i = 0; i < hits.size(); ++i) {
+        if (!hits[i].valid() || hits[i].object != s.objects.size() - 1) continue;
+        const SurfacePoint p = accel.surface(rays[i], hits[i]);
+        fallback += p.ns == p.ng;
+        flipped += p.ns != p.ng;
+    }
+    EXPECT_GT(fallback, 0) << "the zero-length shading normal was not exercised";
+    EXPECT_GT(flipped, 0);
+    expectSurfacesMatch(accel, rays, hits);
 }
 
 }  // namespace

@@ -67,6 +67,13 @@ class Accel {
     // (tests/raycore/test_accel.cpp), four hits to the SSE lanes, so that four normals'
     // square roots and divisions overlap instead of following one another.
     void surfaces(const Ray* rays, const Hit* hits, SurfacePoint* out, size_t n) const;
+    // The two kernels behind surfaces(), public so that the tests hold each to surface():
+    // SSE2 (four hits a register) always; AVX2 (eight, raycore/accel_surfaces_avx2.cpp)
+    // only where avx2Available() — the CPU has it and RETROGLASS_NO_AVX2 is not set —
+    // which is when surfaces() takes it.
+    void surfacesSse2(const Ray* rays, const Hit* hits, SurfacePoint* out, size_t n) const;
+    void surfacesAvx2(const Ray* rays, const Hit* hits, SurfacePoint* out, size_t n) const;
+    static bool avx2Available();
 
     // Every intersection along the ray in [tnear, tfar], nearest first, duplicates removed:
     // a ray through a shared edge or vertex meets every triangle around it at the same t
