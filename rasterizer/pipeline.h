@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -47,6 +48,10 @@ struct ProcessedVertex {
     int64_t sx = 0, sy = 0;      // window position snapped to fixed point (snapToFixed)
     uint32_t outcode = 0;        // bit p: outside clip plane p (computed once per vertex)
     bool valid = true;           // finite position, finite clip coordinates
+    // valid, inside every clip plane (outcode 0) and a finite window position and 1/w: a
+    // triangle of three such vertices needs no clipping and no checks in the fast setup
+    // (setupTrianglesFast). Set by processVertexInto; false on vertices the clipper makes.
+    bool unclipped = false;
     std::array<float, kMaxAttrs> attr{};
 };
 
@@ -63,6 +68,12 @@ inline int64_t snapToFixed(float x, int s) {
     // floor for the clamped range: truncate, then step down for negative fractions.
     int64_t t = int64_t(v);
     return double(t) > v ? t - 1 : t;
+}
+
+// The definition of ProcessedVertex::unclipped.
+inline bool unclippedVertex(const ProcessedVertex& p) {
+    return p.valid && p.outcode == 0 && std::isfinite(p.wx) && std::isfinite(p.wy) &&
+           std::isfinite(p.wz) && std::isfinite(p.invW);
 }
 
 // Per-draw constants shared by every stage.
@@ -99,20 +110,39 @@ struct Plane {
     float at(float fx, float fy) const { return (c + dx * fx) + dy * fy; }
 };
 
+// The plane through (0,0,a0), (dx1,dy1,a1), (dx2,dy2,a2), in double, stored in single;
+// invArea = 1/(dx1·dy2 − dx2·dy1) is computed once per triangle (setupTriangle).
+inline Plane makePlane(double a0, double a1, double a2, double dx1, double dy1, double dx2,
+                       double dy2, double invArea) {
+    double da1 = a1 - a0, da2 = a2 - a0;
+    Plane p;
+    p.c = float(a0);
+    p.dx = float((da1 * dy2 - da2 * dy1) * invArea);
+    p.dy = float((da2 * dx1 - da1 * dx2) * invArea);
+    return p;
+}
+
+// No member initialisers: `SetupTriangle t{}` and emplace_back() zero every field (value-
+// initialisation), while the fast setup constructs with NoInit and writes every field
+// itself, without first zeroing 256 bytes per triangle (setup_simd.cpp).
 struct SetupTriangle {
+    struct NoInit {};
+    SetupTriangle() = default;
+    explicit SetupTriangle(NoInit) {}
+
     // Edge i: E(X, Y) = C + A·X + B·Y on fixed-point sample positions; covered ⇔ E ≥ 0
     // (C carries the −1 of the top-left rule for edges that are not top or left).
-    std::array<int64_t, 3> A{}, B{}, C{};
-    int minX = 0, minY = 0, maxX = -1, maxY = -1;  // inclusive pixel box, ∩ clip rect
-    float x0 = 0, y0 = 0;        // snapped first vertex, pixels
-    double zc = 0, zdx = 0, zdy = 0;  // window z plane, double precision
+    std::array<int64_t, 3> A, B, C;
+    int minX, minY, maxX, maxY;  // inclusive pixel box, ∩ clip rect
+    float x0, y0;                // snapped first vertex, pixels
+    double zc, zdx, zdy;         // window z plane, double precision
     Plane invW;                  // 1/w
     // Colour planes (a/w when perspective-correct, else a), diffuse RGBA then specular
     // RGBA, stored as three arrays so that the fast path evaluates 4 channels per SSE op
     // with exactly the scalar operations of Plane::at.
-    alignas(16) std::array<float, kColorAttrs> colorC{}, colorDx{}, colorDy{};
+    alignas(16) std::array<float, kColorAttrs> colorC, colorDx, colorDy;
     Rgba8 flatDiffuse, flatSpecular;
-    uint32_t texPlanes = 0;      // first of 4·numTexSets planes in the draw's texture pool
+    uint32_t texPlanes;          // first of 4·numTexSets planes in the draw's texture pool
     Plane color(int a) const { return Plane{colorC[a], colorDx[a], colorDy[a]}; }
 };
 

@@ -168,6 +168,7 @@ void processVertexInto(const DrawContext& dc, const glm::mat4& worldViewProj,
         }
     }
     if (p.valid) p.outcode = outcodeOf(dc, p.clip);
+    p.unclipped = unclippedVertex(p);
     const Rgba8 d = v.diffuse, s = v.specular;
     p.attr[0] = d.r; p.attr[1] = d.g; p.attr[2] = d.b; p.attr[3] = d.a;
     p.attr[4] = s.r; p.attr[5] = s.g; p.attr[6] = s.b; p.attr[7] = s.a;
@@ -203,7 +204,7 @@ void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const Proces
         }
         return;
     }
-    SetupTriangle t;
+    SetupTriangle t{};  // zero wherever setup computes nothing
 
     // Sutherland–Hodgman against each plane some vertex is outside of.
     ++gc.clipped;
