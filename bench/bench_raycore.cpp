@@ -1,6 +1,7 @@
 // raycore benchmarks: Mrays/s of our ray casting path (rg::ray::Accel: ray set-up, Embree
 // traversal, hit resolved to a SurfacePoint — what every tracer does per ray; packets and
-// streams resolve their hits as a batch, Accel::surfaces) beside a bare
+// streams resolve their hits as a batch: Accel::surfaces, Accel::intersectStreamSurfaces)
+// beside a bare
 // Embree loop on the very same rays with no shading, in the same run.
 // Names follow bench/harness.h: <workload>/<retroglass|embree>/<layout>/threads:N, with
 //   workload  primary_coherent      camera rays of the teapot-in-room scene (640×480, view 0
@@ -115,15 +116,14 @@ void runRetroglass(benchmark::State& state, bool secondary, Layout layout, int t
                     if (h.valid()) sink += accel.surface(rays[i], h).ns.x;
                 }
             } else if (layout == Layout::Stream) {
-                // A stream's hits are resolved as a batch (Accel::surfaces), as a tracer
-                // consuming a stream would.
-                Hit hits[256];
-                // Output kept per thread: constructing 256 points per chunk would zero 18 KB.
+                // A stream traced and its hits resolved as a batch straight from Embree's
+                // records (Accel::intersectStreamSurfaces), as a tracer consuming a stream
+                // would. Output kept per thread: constructing 256 points per chunk would
+                // zero 18 KB.
                 static thread_local std::vector<rg::ray::SurfacePoint> points(256);
-                accel.intersectStream(&rays[begin], hits, end - begin, !secondary);
-                accel.surfaces(&rays[begin], hits, points.data(), end - begin);
+                accel.intersectStreamSurfaces(&rays[begin], points.data(), end - begin, !secondary);
                 for (size_t i = 0; i < end - begin; ++i)
-                    if (hits[i].valid()) sink += points[i].ns.x;
+                    if (points[i].object != rg::ray::kNoHit) sink += points[i].ns.x;
             } else {
                 Hit hits[16];
                 static thread_local std::vector<rg::ray::SurfacePoint> points(16);

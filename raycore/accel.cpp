@@ -232,29 +232,58 @@ void Accel::intersect16(const Ray* rays, Hit* hits, int count) const {
     intersectPacket<16, RTCRayHit16, rtcIntersect16>(rtcScene_, rays, hits, std::min(count, 16));
 }
 
-void Accel::intersectStream(const Ray* rays, Hit* hits, size_t count, bool coherent) const {
-    constexpr size_t kBatch = 256;
-    RTCRayHit rh[kBatch];
+namespace {
+
+Hit hitOf(const RTCRayHit& rh) {
+    Hit h;
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+        h.t = rh.ray.tfar;
+        h.u = rh.hit.u;
+        h.v = rh.hit.v;
+        h.object = rh.hit.geomID;
+        h.triangle = rh.hit.primID;
+        h.ng = outwardNg(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    }
+    return h;
+}
+
+constexpr size_t kStreamBatch = 256;
+
+// rtcIntersect1M over batches of kStreamBatch rays; done(records, begin, n) after each.
+template <class Done>
+void traceStream(RTCScene scene, const Ray* rays, size_t count, bool coherent, Done&& done) {
+    alignas(16) RTCRayHit rh[kStreamBatch];
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-    for (size_t begin = 0; begin < count; begin += kBatch) {
-        const size_t n = std::min(kBatch, count - begin);
+    for (size_t begin = 0; begin < count; begin += kStreamBatch) {
+        const size_t n = std::min(kStreamBatch, count - begin);
         for (size_t i = 0; i < n; ++i) setRay(rh[i], rays[begin + i]);
-        rtcIntersect1M(rtcScene_, &ctx, rh, unsigned(n), sizeof(RTCRayHit));
-        for (size_t i = 0; i < n; ++i) {
-            Hit h;
-            if (rh[i].hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-                h.t = rh[i].ray.tfar;
-                h.u = rh[i].hit.u;
-                h.v = rh[i].hit.v;
-                h.object = rh[i].hit.geomID;
-                h.triangle = rh[i].hit.primID;
-                h.ng = outwardNg(rh[i].hit.Ng_x, rh[i].hit.Ng_y, rh[i].hit.Ng_z);
-            }
-            hits[begin + i] = h;
-        }
+        rtcIntersect1M(scene, &ctx, rh, unsigned(n), sizeof(RTCRayHit));
+        done(static_cast<const RTCRayHit*>(rh), begin, n);
     }
+}
+
+}  // namespace
+
+void Accel::intersectStream(const Ray* rays, Hit* hits, size_t count, bool coherent) const {
+    traceStream(rtcScene_, rays, count, coherent, [&](const RTCRayHit* rh, size_t begin, size_t n) {
+        for (size_t i = 0; i < n; ++i) hits[begin + i] = hitOf(rh[i]);
+    });
+}
+
+void Accel::intersectStreamSurfaces(const Ray* rays, SurfacePoint* out, size_t count,
+                                    bool coherent) const {
+    static const bool avx2 = avx2Available();
+    traceStream(rtcScene_, rays, count, coherent, [&](const RTCRayHit* rh, size_t begin, size_t n) {
+        if (avx2) {
+            resolveStreamAvx2(rh, out + begin, n);
+        } else {
+            Hit hits[kStreamBatch];
+            for (size_t i = 0; i < n; ++i) hits[i] = hitOf(rh[i]);
+            surfacesSse2(rays + begin, hits, out + begin, n);
+        }
+    });
 }
 
 SurfacePoint Accel::surface(const Ray& ray, const Hit& hit) const {

@@ -49,37 +49,74 @@ RG_AVX2 __m256 dot(const __m256* a, const __m256* b) {
     return add(add(mul(a[0], b[0]), mul(a[1], b[1])), mul(a[2], b[2]));
 }
 
+// Where a lane's hit and ray come from: a Hit and a Ray (surfaces), or the RTCRayHit
+// Embree has just filled (intersectStreamSurfaces), whose org, dir, tfar, u and v are the
+// very floats intersectStream would copy into the Ray and the Hit.
+enum class Source { HitAndRay, EmbreeRayHit };
+
 // surface() of eight hits from their rows: writes the first 48 bytes of dst[0..7] (p, ng,
-// ns, uv, frontFace with zeroed padding); the caller writes the rest.
-RG_AVX2 void resolveRows(const float* const h[8], const float* const r[8],
+// ns, uv, frontFace with zeroed padding) and, from Embree's records, the next 16 (object,
+// part, triangle, a zero word); the caller writes the rest.
+template <Source kSource>
+RG_AVX2 void resolveRows(const float* const in[8], const float* const r[8],
                          const float* const ts[8], const float* const g[8], SurfacePoint* dst) {
     const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
     const __m256 sign = _mm256_set1_ps(-0.0f);
     const __m256 trueBits = _mm256_castsi256_ps(_mm256_set1_epi32(1));  // bool true, zero padding
-    // Inputs: Hit (t u v ·), Ray (ox oy oz dx | dy dz · ·), face normal (x y z ·),
-    // TriangleShading (n0 n1 n2 uv0 uv1 uv2 part, four rows).
-    __m256 H[4], R0[4], R1[4], G[4], F[16];
+    // Inputs, each a 4×4 transpose of 16-byte rows (unused outputs are dead code):
+    //   Hit         t u v ·                 RTCRayHit  ox oy oz · | dx dy dz · | tfar · · ·
+    //   Ray         ox oy oz dx | dy dz · ·            u v primID geomID (at byte 60)
+    //   face normal x y z ·
+    //   TriangleShading n0 n1 n2 uv0 uv1 uv2 part (four rows)
+    __m256 T, U, V, O[3], D[3], ids[2];
+    if constexpr (kSource == Source::HitAndRay) {
+        __m256 H[4], R0[4], R1[4];
+        for (int l = 0; l < 4; ++l) {
+            H[l] = rows(in[l], in[l + 4]);
+            R0[l] = rows(r[l], r[l + 4]);
+            R1[l] = rows(r[l] + 4, r[l + 4] + 4);
+        }
+        transpose(H[0], H[1], H[2], H[3]);
+        transpose(R0[0], R0[1], R0[2], R0[3]);
+        transpose(R1[0], R1[1], R1[2], R1[3]);
+        T = H[0], U = H[1], V = H[2];
+        O[0] = R0[0], O[1] = R0[1], O[2] = R0[2];
+        D[0] = R0[3], D[1] = R1[0], D[2] = R1[1];
+    } else {
+        static_assert(offsetof(RTCRayHit, ray.org_x) == 0 && offsetof(RTCRayHit, ray.dir_x) == 16 &&
+                      offsetof(RTCRayHit, ray.tfar) == 32 && offsetof(RTCRayHit, hit.u) == 60 &&
+                      offsetof(RTCRayHit, hit.v) == 64 && offsetof(RTCRayHit, hit.primID) == 68 &&
+                      offsetof(RTCRayHit, hit.geomID) == 72);
+        __m256 A[4], B[4], C[4], E[4];
+        for (int l = 0; l < 4; ++l) {
+            A[l] = rows(in[l], in[l + 4]);
+            B[l] = rows(in[l] + 4, in[l + 4] + 4);
+            C[l] = rows(in[l] + 8, in[l + 4] + 8);
+            E[l] = rows(in[l] + 15, in[l + 4] + 15);
+        }
+        transpose(A[0], A[1], A[2], A[3]);
+        transpose(B[0], B[1], B[2], B[3]);
+        transpose(C[0], C[1], C[2], C[3]);
+        transpose(E[0], E[1], E[2], E[3]);
+        T = C[0], U = E[0], V = E[1];
+        O[0] = A[0], O[1] = A[1], O[2] = A[2];
+        D[0] = B[0], D[1] = B[1], D[2] = B[2];
+        ids[0] = E[3], ids[1] = E[2];  // geomID = object, primID = triangle
+    }
+    __m256 G[4], F[16];
     for (int l = 0; l < 4; ++l) {
-        H[l] = rows(h[l], h[l + 4]);
-        R0[l] = rows(r[l], r[l + 4]);
-        R1[l] = rows(r[l] + 4, r[l + 4] + 4);
         G[l] = rows(g[l], g[l + 4]);
         for (int row = 0; row < 4; ++row) F[4 * row + l] = rows(ts[l] + 4 * row, ts[l + 4] + 4 * row);
     }
-    transpose(H[0], H[1], H[2], H[3]);
-    transpose(R0[0], R0[1], R0[2], R0[3]);
-    transpose(R1[0], R1[1], R1[2], R1[3]);
     transpose(G[0], G[1], G[2], G[3]);
     for (int row = 0; row < 4; ++row)  // F[f] is float f of TriangleShading
         transpose(F[4 * row], F[4 * row + 1], F[4 * row + 2], F[4 * row + 3]);
 
     // surface(), eight lanes.
-    const __m256 T = H[0], U = H[1], V = H[2];
     const __m256 b0 = _mm256_sub_ps(_mm256_sub_ps(one, U), V);
     __m256 P[3], NS[3], UV[2];
-    const __m256 D[3] = {R0[3], R1[0], R1[1]};
     for (int c = 0; c < 3; ++c) {
-        P[c] = add(R0[c], mul(T, D[c]));
+        P[c] = add(O[c], mul(T, D[c]));
         NS[c] = add(add(mul(b0, F[c]), mul(U, F[3 + c])), mul(V, F[6 + c]));
     }
     for (int c = 0; c < 2; ++c)
@@ -108,6 +145,14 @@ RG_AVX2 void resolveRows(const float* const h[8], const float* const r[8],
         _mm_storeu_ps(hi + 4, _mm256_extractf128_ps(O1[l], 1));
         _mm_storeu_ps(lo + 8, _mm256_castps256_ps128(O2[l]));
         _mm_storeu_ps(hi + 8, _mm256_extractf128_ps(O2[l], 1));
+    }
+    if constexpr (kSource == Source::EmbreeRayHit) {
+        __m256 O3[4] = {ids[0], F[15], ids[1], zero};  // object, part, triangle, ·
+        transpose(O3[0], O3[1], O3[2], O3[3]);
+        for (int l = 0; l < 4; ++l) {
+            _mm_storeu_ps(reinterpret_cast<float*>(&dst[l]) + 12, _mm256_castps256_ps128(O3[l]));
+            _mm_storeu_ps(reinterpret_cast<float*>(&dst[l + 4]) + 12, _mm256_extractf128_ps(O3[l], 1));
+        }
     }
 }
 
@@ -158,11 +203,53 @@ __attribute__((target("avx2"))) void Accel::surfacesAvx2(const Ray* rays, const 
             }
         };
         if (m == 8) {
-            resolveRows(h, r, ts, g, out + base);
+            resolveRows<Source::HitAndRay>(h, r, ts, g, out + base);
             finish(out + base);
         } else {  // a partial group: all eight lanes written to a scratch group
             SurfacePoint partial[8];
-            resolveRows(h, r, ts, g, partial);
+            resolveRows<Source::HitAndRay>(h, r, ts, g, partial);
+            finish(partial);
+            std::copy(partial, partial + m, out + base);
+        }
+    }
+}
+
+__attribute__((target("avx2"))) void Accel::resolveStreamAvx2(const RTCRayHit* rh,
+                                                              SurfacePoint* out, size_t n) const {
+    static_assert(offsetof(SurfacePoint, part) == 52 && offsetof(SurfacePoint, triangle) == 56 &&
+                  offsetof(SurfacePoint, material) == 64 && sizeof(SurfacePoint) == 72);
+    alignas(64) static const TriangleShading noShading{};
+    alignas(16) static const float noNormal[4] = {0.0f, 1.0f, 0.0f, 0.0f};
+    for (size_t base = 0; base < n; base += 8) {
+        const size_t m = std::min<size_t>(8, n - base);
+        const float* in[8];
+        const float* ts[8];
+        const float* g[8];
+        const Material* material[8];
+        bool valid[8];
+        for (size_t l = 0; l < 8; ++l) {
+            const RTCRayHit& x = rh[base + (l < m ? l : 0)];  // past the end: any record
+            valid[l] = l < m && x.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+            const WorldMesh* w = valid[l] ? &meshes_[x.hit.geomID] : nullptr;
+            in[l] = &x.ray.org_x;
+            ts[l] = valid[l] ? &w->triangles[x.hit.primID].normal[0].x : &noShading.normal[0].x;
+            g[l] = valid[l] ? &w->faceNormals[x.hit.primID].x : noNormal;
+            material[l] = valid[l] ? w->material : nullptr;
+        }
+        auto finish = [&](SurfacePoint* dst) {
+            for (size_t l = 0; l < m; ++l) {
+                if (valid[l])
+                    dst[l].material = material[l];
+                else
+                    dst[l] = SurfacePoint();
+            }
+        };
+        if (m == 8) {
+            resolveRows<Source::EmbreeRayHit>(in, nullptr, ts, g, out + base);
+            finish(out + base);
+        } else {
+            SurfacePoint partial[8];
+            resolveRows<Source::EmbreeRayHit>(in, nullptr, ts, g, partial);
             finish(partial);
             std::copy(partial, partial + m, out + base);
         }

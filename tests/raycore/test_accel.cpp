@@ -290,5 +290,55 @@ TEST(Accel, SurfacesMatchSurfaceOnRandomHits) {
     expectSurfacesMatch(accel, rays, hits);
 }
 
+// The fused stream (trace, then resolve from Embree's records) against intersectStream and
+// surface() of each hit, bit for bit: camera rays, rays from inside the room every way,
+// rays from outside pointing away (misses), over several batches and a partial group.
+TEST(Accel, StreamSurfacesMatchStreamThenSurface) {
+    Scene s = makeBuiltinScene("teapot-in-room");
+    Accel accel(s);
+    const Camera cam = s.viewpointPaths[0].at(0);
+    std::vector<Ray> rays;
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 32; ++x) rays.push_back(primaryRay(cam, 32, 12, x + 0.5f, y + 0.5f));
+    uint32_t state = 777u;
+    auto next = [&] {
+        state ^= state << 13, state ^= state >> 17, state ^= state << 5;
+        return float(state >> 8) / 16777216.0f;
+    };
+    for (int i = 0; i < 205; ++i) {
+        Ray r;
+        const bool outside = i % 5 == 0;
+        r.origin = outside ? glm::vec3(0.0f, 1.0f, 1000.0f)
+                           : glm::vec3(4.0f * next() - 2.0f, 3.5f * next(), 4.0f * next() - 2.0f);
+        glm::vec3 d(next() - 0.5f, next() - 0.5f, next() - 0.5f);
+        if (outside) d.z = std::abs(d.z) + 0.1f;
+        r.dir = glm::normalize(d + 1e-6f);
+        rays.push_back(r);
+    }
+    for (bool coherent : {true, false}) {
+        std::vector<Hit> hits(rays.size());
+        accel.intersectStream(rays.data(), hits.data(), rays.size(), coherent);
+        std::vector<SurfacePoint> fused(rays.size() + 1);
+        fused.back().object = 0xdeadbeefu;
+        accel.intersectStreamSurfaces(rays.data(), fused.data(), rays.size(), coherent);
+        EXPECT_EQ(fused.back().object, 0xdeadbeefu) << "wrote past the end";
+        int misses = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            const SurfacePoint a = accel.surface(rays[i], hits[i]), &b = fused[i];
+            misses += !hits[i].valid();
+            EXPECT_EQ(std::memcmp(&a.p, &b.p, sizeof a.p), 0) << i;
+            EXPECT_EQ(std::memcmp(&a.ng, &b.ng, sizeof a.ng), 0) << i;
+            EXPECT_EQ(std::memcmp(&a.ns, &b.ns, sizeof a.ns), 0) << i;
+            EXPECT_EQ(std::memcmp(&a.uv, &b.uv, sizeof a.uv), 0) << i;
+            EXPECT_EQ(a.frontFace, b.frontFace) << i;
+            EXPECT_EQ(a.object, b.object) << i;
+            EXPECT_EQ(a.triangle, b.triangle) << i;
+            EXPECT_EQ(a.part, b.part) << i;
+            EXPECT_EQ(a.material, b.material) << i;
+        }
+        EXPECT_GT(misses, 20);
+    }
+}
+
 }  // namespace
 }  // namespace rg::ray

@@ -61,6 +61,10 @@ class Accel {
     // tells it the rays start together and point alike (camera rays), so it traces them as
     // packets.
     void intersectStream(const Ray* rays, Hit* hits, size_t count, bool coherent) const;
+    // intersectStream, then surfaces() of its hits, in one pass: each batch's hits are
+    // resolved straight from Embree's ray records (no Hit array between the two), with the
+    // same values bit for bit (tests/raycore/test_accel.cpp). Misses give SurfacePoint().
+    void intersectStreamSurfaces(const Ray* rays, SurfacePoint* out, size_t count, bool coherent) const;
 
     SurfacePoint surface(const Ray& ray, const Hit& hit) const;
     // surface() of n hits at once, for streams and packets: the same values bit for bit
@@ -101,6 +105,8 @@ class Accel {
         std::vector<glm::vec3> faceNormals;  // unit geometric normal per triangle, world space
         const Material* material = nullptr;
     };
+    // intersectStreamSurfaces' AVX2 kernel: surfaces() of n records Embree has filled.
+    void resolveStreamAvx2(const RTCRayHit* rh, SurfacePoint* out, size_t n) const;
     const Scene& scene_;
     RTCScene rtcScene_ = nullptr;
     std::vector<WorldMesh> meshes_;
