@@ -55,28 +55,33 @@ struct BinarySearchFP {
     }
 };
 
-// The same algorithm as a quad program (rasterizer/quad_program.h): the four pixels of a
-// quad in SSE lanes, the branch as a select — what the benchmark runs.
+// The same algorithm as a quad program (rasterizer/quad_program.h): the pixels of a quad in
+// SSE lanes, the branch as a select — what the benchmark runs. Written for any context
+// (QuadContext: one quad; QuadGroupContext: several quads interleaved, which the fast path
+// uses to overlap the searches' dependent steps).
 struct BinarySearchQuadFP {
     static constexpr int kVaryings = 0;
     static constexpr uint32_t kTargets = 1;
     static constexpr uint32_t kUnits = 1;
     static constexpr bool kWritesDepth = false;
-    void operator()(raster::QuadContext& q) const {
-        using raster::Float4;
-        const raster::Vec4x4& fc = q.fragCoord();
-        const Float4 u = fc.x / Float4(float(bs::kWidth)), v = fc.y / Float4(float(bs::kHeight));
-        const raster::Vec3x4 a(u, v, Float4(0.0f)), b(u + bs::kRayDx, v + bs::kRayDy, Float4(1.0f));
-        Float4 lo(0.0f), hi(1.0f), d(0.0f);
+    template <class Q>
+    void operator()(Q& q) const {
+        using F = typename Q::Float;
+        using V3 = typename Q::Vec3;
+        using V4 = typename Q::Vec4;
+        const V4 fc = q.fragCoord();
+        const F u = fc.x / F(float(bs::kWidth)), v = fc.y / F(float(bs::kHeight));
+        const V3 a(u, v, F(0.0f)), b(u + bs::kRayDx, v + bs::kRayDy, F(1.0f));
+        F lo(0.0f), hi(1.0f), d(0.0f);
         for (int step = 0; step < bs::kSteps; ++step) {
-            const Float4 mid = Float4(0.5f) * (lo + hi);
-            const raster::Vec3x4 p = a + (b - a) * mid;
-            d = q.sampleLevel(0, raster::Vec4x4(p.x, p.y, Float4(0.0f), Float4(0.0f)), Float4(0.0f)).x;
-            const raster::Mask4 above = p.z > d;
+            const F mid = F(0.5f) * (lo + hi);
+            const V3 p = a + (b - a) * mid;
+            d = q.sampleLevel(0, V4(p.x, p.y, F(0.0f), F(0.0f)), F(0.0f)).x;
+            const auto above = p.z > d;
             hi = select(above, mid, hi);
             lo = select(above, lo, mid);
         }
-        q.output(0, raster::Vec4x4(Float4(0.5f) * (lo + hi), d, Float4(0.0f), Float4(1.0f)));
+        q.output(0, V4(F(0.5f) * (lo + hi), d, F(0.0f), F(1.0f)));
     }
 };
 

@@ -6,6 +6,8 @@
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -127,6 +129,11 @@ float FragmentContext::sampleCompare(int u, const glm::vec4& c, float ref) {
 
 // ---- quad context -------------------------------------------------------------------------
 
+bool detail::programAvx2() {
+    static const bool has = __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
+    return has;
+}
+
 void QuadContext::undeclaredTarget(int target) const { undeclared("quad program", false, target); }
 void QuadContext::undeclaredUnit(int u) const { undeclared("quad program", true, u); }
 
@@ -177,6 +184,34 @@ Vec4x4 QuadContext::sampleLevelLanes(const detail::BoundUnit& b, const Vec4x4& c
                                          setup_->path, fetches_[size_t(i)]);
     }
     return Vec4x4::fromLanes(t);
+}
+
+// ---- point-sampled float textures ------------------------------------------------------
+
+detail::NearestFloat2D detail::nearestFloat2D(const tex::Texture* texture, const tex::SamplerState& sampler) {
+    NearestFloat2D n;
+    using tex::AddressMode;
+    auto simple = [](AddressMode m) { return m == AddressMode::Wrap || m == AddressMode::ClampToEdge; };
+    if (!(texture && texture->isFloat() && texture->dims() <= 2 &&
+          texture->desc().target != tex::TextureTarget::CubeMap &&
+          sampler.magFilter == tex::FilterMode::Nearest && sampler.minFilter == tex::FilterMode::Nearest &&
+          sampler.mipFilter == tex::MipMode::None && simple(sampler.address[0]) &&
+          (texture->dims() == 1 || simple(sampler.address[1]))))
+        return n;
+    const int base = std::clamp(sampler.baseLevel, 0, texture->levels() - 1);
+    if (texture->singleChannel())
+        n.data1 = texture->dataR(base, 0);
+    else
+        n.data4 = texture->dataF(base, 0);
+    n.depth = texture->format().isDepth;
+    n.width = texture->levelSize(base)[0];
+    n.height = texture->levelSize(base)[1];
+    n.wrapS = sampler.address[0] == AddressMode::Wrap;
+    n.wrapT = sampler.address[1] == AddressMode::Wrap;
+    auto pow2 = [](int v) { return (v & (v - 1)) == 0; };
+    n.lanes4 = (!n.wrapS || pow2(n.width)) && (n.height == 1 || !n.wrapT || pow2(n.height));
+    if (pow2(n.width)) n.widthShift = std::countr_zero(unsigned(n.width));
+    return n;
 }
 
 // ---- output merger ------------------------------------------------------------------------
@@ -455,25 +490,7 @@ void ProgrammableDevice::setTexture(int unit, std::shared_ptr<const tex::Texture
                            " units of profile '" + std::string(impl_->profile.name) + "'");
     if (texture && !texture->complete())
         throw InvalidState("texture bound to unit " + std::to_string(unit) + " has levels never uploaded");
-    detail::BoundUnit b{texture.get(), sampler, {}};
-    using tex::AddressMode;
-    auto simple = [](AddressMode m) { return m == AddressMode::Wrap || m == AddressMode::ClampToEdge; };
-    if (texture && texture->isFloat() && texture->dims() <= 2 &&
-        texture->desc().target != tex::TextureTarget::CubeMap &&
-        sampler.magFilter == tex::FilterMode::Nearest && sampler.minFilter == tex::FilterMode::Nearest &&
-        sampler.mipFilter == tex::MipMode::None && simple(sampler.address[0]) &&
-        (texture->dims() == 1 || simple(sampler.address[1]))) {
-        const int base = std::clamp(sampler.baseLevel, 0, texture->levels() - 1);
-        if (texture->singleChannel())
-            b.nearest.data1 = texture->dataR(base, 0);
-        else
-            b.nearest.data4 = texture->dataF(base, 0);
-        b.nearest.depth = texture->format().isDepth;
-        b.nearest.width = texture->levelSize(base)[0];
-        b.nearest.height = texture->levelSize(base)[1];
-        b.nearest.wrapS = sampler.address[0] == AddressMode::Wrap;
-        b.nearest.wrapT = sampler.address[1] == AddressMode::Wrap;
-    }
+    const detail::BoundUnit b{texture.get(), sampler, detail::nearestFloat2D(texture.get(), sampler)};
     impl_->units[size_t(unit)] = b;
     impl_->textures[size_t(unit)] = std::move(texture);
 }

@@ -743,5 +743,129 @@ TEST(ProgrammablePathsAgree, QuadProgramEqualsItsScalarTwinOnBothPaths) {
             }
 }
 
+// The quad twin written for any context: the fast path runs it on groups of quads
+// (QuadGroupContext, interleaved), the reference path quad by quad.
+struct TwinGroupFP {
+    static constexpr int kVaryings = 2;
+    static constexpr uint32_t kTargets = 3;
+    static constexpr uint32_t kUnits = 7;
+    static constexpr bool kWritesDepth = false;
+    template <class Q>
+    void operator()(Q& q) const {
+        using F = typename Q::Float;
+        using V4 = typename Q::Vec4;
+        const V4 a = q.varying(0), b = q.varying(1);
+        q.discard(a.w > F(0.8f));
+        V4 acc = q.sampleLevel(0, a, F(0.0f));
+        F t(0.0f);
+        auto going = q.active();
+        for (int i = 0; i < 6; ++i) {
+            going = going & (t < F(2.0f));
+            if (!going.any()) break;
+            const F h = q.sampleLevel(1, V4(b.x + t, b.y - t, F(0.0f), F(0.0f)), F(0.0f), going).x;
+            t = select(going, t + max(h, F(0.125f)), t);
+        }
+        const V4 e = q.sampleLevel(2, b, F(0.0f)) + q.sample(2, 1);
+        q.output(0, acc * t + e);
+        q.output(1, V4(t, min(a.x, b.x), a.y / b.w, F(1.0f)), b.z > F(0.5f));
+    }
+};
+
+static_assert(detail::kIsGroupProgram<TwinGroupFP> && !detail::kIsGroupProgram<TwinQuadFP>);
+
+// Group programs against the scalar twin on the reference path, with an early depth test
+// and depth writes between overlapping triangles, on power-of-two WRAP (the interleaved
+// fetch), non-power-of-two WRAP and a filtered cube map (quad by quad), any thread count.
+// Under RETROGLASS_NO_AVX2 (the ctest ...WithoutAvx2) the SSE2 group kernel runs.
+TEST(ProgrammablePathsAgree, GroupProgramEqualsItsScalarTwinWithDepth) {
+    const int W = 97, H = 66;
+    std::mt19937 rng(4242);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Fixture fx;
+    auto makeTex = [&](TexelFormat f, TextureTarget target, int w, int h) {
+        TextureDesc d;
+        d.format = f;
+        d.target = target;
+        d.width = w;
+        d.height = h;
+        auto t = fx.memory->create(d);
+        for (int face = 0; face < t->faces(); ++face) {
+            std::vector<uint8_t> b(size_t(w) * h * formatInfo(f).bytesPerTexel);
+            for (size_t i = 0; i < b.size() / 4; ++i) {
+                const float v = (i % 13 == 0) ? -0.0f : u(rng) * 1.5f - 0.25f;
+                std::memcpy(&b[i * 4], &v, 4);
+            }
+            fx.memory->upload(*t, 0, face, b);
+        }
+        return t;
+    };
+    auto rgba = makeTex(TexelFormat::RGBA32F, TextureTarget::Texture2D, 16, 32);
+    auto red = makeTex(TexelFormat::R32F, TextureTarget::Texture2D, 20, 8);
+    auto redPow2 = makeTex(TexelFormat::R32F, TextureTarget::Texture2D, 32, 8);
+    auto cube = makeTex(TexelFormat::RGBA32F, TextureTarget::CubeMap, 8, 8);
+    tex::SamplerState point;
+    point.magFilter = point.minFilter = tex::FilterMode::Nearest;
+    tex::SamplerState pointClamp = point;
+    pointClamp.address[0] = tex::AddressMode::ClampToEdge;
+    std::vector<RandomVertex> verts;
+    for (int i = 0; i < 3 * 40; ++i) {
+        RandomVertex v;
+        const auto r = draws(rng, u);
+        const float w = 0.5f + r[0];
+        v.position = glm::vec4((r[1] * 2.4f - 1.2f) * w, (r[2] * 2.4f - 1.2f) * w, (r[11] * 1.8f - 0.9f) * w, w);
+        v.a = glm::vec4(r[3] * 2 - 1, r[4] * 2 - 1, r[5] * 2 - 1, r[6]);
+        v.b = glm::vec4(r[7] * 3 - 1, r[8] * 3 - 1, r[9], 0.5f + r[10]);
+        verts.push_back(v);
+    }
+    ProgramState st;
+    st.depthTest = 1;
+    st.depthWrite = 1;
+    st.depthFunc = CompareFunc::Less;
+    st.blend[1] = TargetBlend{1, BlendFactor::One, BlendFactor::One, BlendOp::Add, kWriteRGBA};
+    for (int variant = 0; variant < 2; ++variant) {
+        auto render = [&](bool group, Path path, int threads, ProgramCounters& counters) {
+            auto t0 = fx.target(W, H, TexelFormat::RGBA8);
+            auto t1 = fx.target(W, H, TexelFormat::RGBA32F);
+            TextureDesc dd;
+            dd.format = TexelFormat::Depth32F;
+            dd.width = W;
+            dd.height = H;
+            auto depth = fx.memory->createRenderTarget(dd);
+            ProgrammableDevice dev(g80(), DeviceOptions{path, threads});
+            ColorTarget cts[2] = {{t0}, {t1}};
+            dev.setRenderTargets(cts, DepthTarget{depth});
+            dev.setState(st);
+            dev.clearDepth(1.0f);
+            dev.setTexture(0, rgba, variant ? pointClamp : point);
+            dev.setTexture(1, variant ? redPow2 : red, variant ? point : pointClamp);
+            dev.setTexture(2, cube, tex::SamplerState{});
+            dev.beginFrame();
+            if (group)
+                dev.draw(RandomVP{}, TwinGroupFP{}, ProgramPrimitive::TriangleList, std::span<const RandomVertex>(verts));
+            else
+                dev.draw(RandomVP{}, TwinScalarFP{}, ProgramPrimitive::TriangleList, std::span<const RandomVertex>(verts));
+            counters = dev.counters();
+            return hashTargets({t0, t1, depth}, W, H);
+        };
+        ProgramCounters ref, c;
+        const std::string want = render(false, Path::Reference, 1, ref);
+        EXPECT_GT(ref.fragmentsDepthFailed, 0u);
+        EXPECT_GT(ref.fragmentsDiscarded, 0u);
+        for (Path path : {Path::Reference, Path::Fast})
+            for (int threads : {1, 3}) {
+                EXPECT_EQ(render(true, path, threads, c), want)
+                    << "variant " << variant << ", " << (path == Path::Fast ? "fast" : "reference") << " path, "
+                    << threads << " threads; reproduce: build/bin/test_programmable --gtest_filter='*GroupProgram*'";
+                EXPECT_EQ(c.fragmentsGenerated, ref.fragmentsGenerated);
+                EXPECT_EQ(c.fragmentsDepthFailed, ref.fragmentsDepthFailed);
+                EXPECT_EQ(c.fragmentInvocations, ref.fragmentInvocations);
+                EXPECT_EQ(c.fragmentsWritten, ref.fragmentsWritten);
+                EXPECT_EQ(c.textureFetches, ref.textureFetches);
+                EXPECT_EQ(c.maxFetchesPerFragment, ref.maxFetchesPerFragment);
+                EXPECT_EQ(c.fragmentsDiscarded, ref.fragmentsDiscarded);
+            }
+    }
+}
+
 }  // namespace
 }  // namespace rg::raster

@@ -145,6 +145,10 @@ struct NearestFloat2D {
     bool depth = false;                // data1 expands to (d, d, d, 1), else (r, 0, 0, 1)
     int width = 0, height = 0;
     bool wrapS = false, wrapT = false;  // else clamp to edge
+    // Set where the four-lane fetch (quad_program.h: detail::nearestIndices) applies: WRAP axes
+    // have power-of-two sizes. widthShift: log2(width) for a power of two, else −1.
+    bool lanes4 = false;
+    int widthShift = -1;
     bool valid() const { return data4 || data1; }
     // The tap list's Σ 1·texel in double is the texel itself, with −0 turned into +0.
     glm::vec4 fetch(float s, float t) const {

@@ -11,7 +11,9 @@
 // list. Both give the same bytes for any thread count (tests/programmable/).
 #pragma once
 
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -161,6 +163,99 @@ inline void shadeFragment(const FP& fp, const ProgramDraw& d, const ProgramTrian
     ++c.fragmentsWritten;
 }
 
+// A quad program's quad before the program: the early depth test per covered lane; the
+// lanes that passed, and the context begun on them. zStore: what depth writes store.
+// Window z per pixel as shadeFragment computes it, (zc + zdx·fx) + zdy·fy in double, two
+// pixels of a row per SSE2 register (the same IEEE operations lane by lane).
+inline uint32_t beginQuadLanes(const ProgramDraw& d, const ProgramTriangle& t, const QuadVaryings& q,
+                               const std::array<float, 4>& iw, uint32_t mask, int qx, int qy,
+                               QuadContext& f, float (&zStore)[4], ProgramCounters& c) {
+    const __m128d fx = _mm_sub_pd(_mm_setr_pd(double(qx) + 0.5, double(qx + 1) + 0.5), _mm_set1_pd(double(t.x0)));
+    const __m128d zRow = _mm_add_pd(_mm_set1_pd(t.zc), _mm_mul_pd(_mm_set1_pd(t.zdx), fx));
+    const double fy0 = (double(qy) + 0.5) - double(t.y0), fy1 = (double(qy + 1) + 0.5) - double(t.y0);
+    const __m128d z01 = _mm_add_pd(zRow, _mm_mul_pd(_mm_set1_pd(t.zdy), _mm_set1_pd(fy0)));
+    const __m128d z23 = _mm_add_pd(zRow, _mm_mul_pd(_mm_set1_pd(t.zdy), _mm_set1_pd(fy1)));
+    const __m128 zf = _mm_movelh_ps(_mm_cvtpd_ps(z01), _mm_cvtpd_ps(z23));
+    uint32_t run = mask;
+    c.fragmentsGenerated += uint32_t(std::popcount(mask));
+    zStore[0] = zStore[1] = zStore[2] = zStore[3] = 0.0f;
+    if (d.depthData) {
+        alignas(16) double z[4];
+        _mm_store_pd(z, z01);
+        _mm_store_pd(z + 2, z23);
+        for (int p = 0; p < 4; ++p) {
+            if (!((mask >> p) & 1u)) continue;
+            const int px = qx + (p & 1), py = qy + (p >> 1);
+            zStore[p] = storedDepth(d.depthD24, z[p]);
+            const float stored = d.depthData[size_t(py) * size_t(d.depthWidth) + size_t(px)];
+            if (d.depthTest && !depthPasses(d.depthFunc, zStore[p], stored)) {
+                ++c.fragmentsDepthFailed;
+                run &= ~(1u << p);
+            }
+        }
+    }
+    const __m128 x0 = _mm_set1_ps(float(qx) + 0.5f), y0 = _mm_set1_ps(float(qy) + 0.5f);
+    f.begin(d.ctx, &q, run,
+            Vec4x4(Float4(_mm_add_ps(x0, _mm_setr_ps(0.0f, 1.0f, 0.0f, 1.0f))),
+                   Float4(_mm_add_ps(y0, _mm_setr_ps(0.0f, 0.0f, 1.0f, 1.0f))), Float4(zf),
+                   Float4(_mm_loadu_ps(iw.data()))));
+    return run;
+}
+
+// RGBA8 without blending or write mask: tex::floatToRgba8 on four lanes — max(x, 0) also
+// maps NaN to 0 (MAXPS returns its second operand), then min(x, 1), x·255 + ½ and
+// truncation (= floor here) — stored for the lanes in `lanes`, a full quad as two rows.
+inline void storeQuadRgba8(const TargetView& t, int qx, int qy, const Vec4x4& o, uint32_t lanes) {
+    auto unorm = [](__m128 x) {
+        x = _mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), _mm_set1_ps(1.0f));
+        return _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(x, _mm_set1_ps(255.0f)), _mm_set1_ps(0.5f)));
+    };
+    const __m128i px = _mm_or_si128(_mm_or_si128(unorm(o.x.v), _mm_slli_epi32(unorm(o.y.v), 8)),
+                                    _mm_or_si128(_mm_slli_epi32(unorm(o.z.v), 16), _mm_slli_epi32(unorm(o.w.v), 24)));
+    Rgba8* row = t.data8 + size_t(qy) * size_t(t.width) + size_t(qx);  // Rgba8 is r, g, b, a in memory
+    if (lanes == 15) {
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(static_cast<void*>(row)), px);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(static_cast<void*>(row + t.width)),
+                         _mm_unpackhi_epi64(px, px));
+        return;
+    }
+    alignas(16) uint32_t v[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(v), px);
+    for (int p = 0; p < 4; ++p)
+        if ((lanes >> p) & 1u)
+            std::memcpy(static_cast<void*>(row + size_t(p >> 1) * size_t(t.width) + size_t(p & 1)), &v[p], 4);
+}
+
+// After the program: per lane what shadeFragment does after the program (counters, depth
+// write), then the output merger.
+inline void finishQuadLanes(const ProgramDraw& d, int qx, int qy, const QuadContext& f,
+                            const float (&zStore)[4], ProgramCounters& c) {
+    const uint32_t run = f.runLanes();
+    const uint32_t discarded = f.discardedLanes() & run, alive = run & ~discarded;
+    c.fragmentInvocations += uint32_t(std::popcount(run));
+    c.fragmentsDiscarded += uint32_t(std::popcount(discarded));
+    c.fragmentsWritten += uint32_t(std::popcount(alive));
+    uint32_t fetches = 0, most = 0;
+    for (int p = 0; p < 4; ++p) {
+        const uint32_t n = ((run >> p) & 1u) ? f.fetches(p) : 0u;
+        fetches += n;
+        most = std::max(most, n);
+    }
+    c.textureFetches += fetches;
+    if (most > c.maxFetchesPerFragment) c.maxFetchesPerFragment = most;
+    if (!alive) return;
+    if (d.depthData && d.depthWrite)
+        for (int p = 0; p < 4; ++p)
+            if ((alive >> p) & 1u)
+                d.depthData[size_t(qy + (p >> 1)) * size_t(d.depthWidth) + size_t(qx + (p & 1))] = zStore[p];
+    const TargetView& t0 = d.targets[0];
+    if (d.numTargets == 1 && t0.data8 && !t0.blend.enable && t0.blend.writeMask == kWriteRGBA) {
+        if (const uint32_t lanes = f.writtenLanes(0) & alive) storeQuadRgba8(t0, qx, qy, f.outQuad(0), lanes);
+        return;
+    }
+    mergeQuad(d, qx, qy, f, alive);
+}
+
 // The covered lanes `mask` of a quad through a quad program: the early depth test per
 // lane, the program once for the lanes that passed, then per lane what shadeFragment does
 // after the program. The counters are those of running the lanes one by one.
@@ -169,49 +264,46 @@ inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const ProgramTria
                            const QuadVaryings& q, const std::array<float, 4>& iw, uint32_t mask,
                            int qx, int qy, QuadContext& f, ProgramCounters& c) {
     static_assert(!FP::kWritesDepth, "quad programs cannot write depth");
-    float zf[4];
-    float zStore[4] = {0, 0, 0, 0};
-    uint32_t run = 0;
-    for (int p = 0; p < 4; ++p) {
-        const int px = qx + (p & 1), py = qy + (p >> 1);
-        const double z = (t.zc + t.zdx * ((double(px) + 0.5) - double(t.x0))) +
-                         t.zdy * ((double(py) + 0.5) - double(t.y0));
-        zf[p] = float(z);
-        if (!((mask >> p) & 1u)) continue;
-        ++c.fragmentsGenerated;
-        if (d.depthData) {
-            zStore[p] = storedDepth(d.depthD24, z);
-            const float stored = d.depthData[size_t(py) * size_t(d.depthWidth) + size_t(px)];
-            if (d.depthTest && !depthPasses(d.depthFunc, zStore[p], stored)) {
-                ++c.fragmentsDepthFailed;
-                continue;
-            }
-        }
-        run |= 1u << p;
-    }
-    if (!run) return;
-    const float x0 = float(qx) + 0.5f, y0 = float(qy) + 0.5f;
-    f.begin(d.ctx, &q, run,
-            Vec4x4(Float4::lanes(x0, x0 + 1.0f, x0, x0 + 1.0f), Float4::lanes(y0, y0, y0 + 1.0f, y0 + 1.0f),
-                   Float4::lanes(zf[0], zf[1], zf[2], zf[3]), Float4::lanes(iw[0], iw[1], iw[2], iw[3])));
+    float zStore[4];
+    if (!beginQuadLanes(d, t, q, iw, mask, qx, qy, f, zStore, c)) return;
     fp(f);
-    uint32_t alive = 0;
-    for (int p = 0; p < 4; ++p) {
-        if (!((run >> p) & 1u)) continue;
-        ++c.fragmentInvocations;
-        c.textureFetches += f.fetches(p);
-        if (f.fetches(p) > c.maxFetchesPerFragment) c.maxFetchesPerFragment = f.fetches(p);
-        if ((f.discardedLanes() >> p) & 1u) {
-            ++c.fragmentsDiscarded;
-            continue;
-        }
-        alive |= 1u << p;
-        ++c.fragmentsWritten;
-        const int px = qx + (p & 1), py = qy + (p >> 1);
-        if (d.depthData && d.depthWrite)
-            d.depthData[size_t(py) * size_t(d.depthWidth) + size_t(px)] = zStore[p];
-    }
-    if (alive) mergeQuad(d, qx, qy, f, alive);
+    finishQuadLanes(d, qx, qy, f, zStore, c);
+}
+
+// The point-sampled fast case of a unit (NearestFloat2D; not valid() when the texture or
+// sampler is not one), resolved once when the unit is bound.
+NearestFloat2D nearestFloat2D(const tex::Texture* texture, const tex::SamplerState& sampler);
+
+// The CPU runs AVX2 and RETROGLASS_NO_AVX2 is not set (which keeps the SSE2 kernels, so
+// the tests can hold both to the reference).
+bool programAvx2();
+
+// Quads per group for programs that run on a QuadGroupContext (quad_program.h).
+constexpr int kGroupQuads = 4;
+
+// A quad program written for any context (a template on it) also runs kGroupQuads quads
+// at once on the fast path.
+template <class FP>
+constexpr bool kIsGroupProgram =
+    kIsQuadProgram<FP> && requires(const FP& fp, QuadGroupContext<kGroupQuads>& g) { fp(g); };
+
+// The quads of a group through the program at once: what shadeQuadLanes does to each, in
+// the same order for everything outside the program (the quads' pixels are distinct, so
+// early tests before the other quads' depth writes see the same values).
+template <class FP, int N>
+inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const ProgramTriangle& t,
+                           const std::array<QuadVaryings, N>& q, const std::array<std::array<float, 4>, N>& iw,
+                           const std::array<uint32_t, N>& mask, const std::array<int, N>& qx,
+                           const std::array<int, N>& qy, QuadGroupContext<N>& g, ProgramCounters& c) {
+    static_assert(!FP::kWritesDepth, "quad programs cannot write depth");
+    float zStore[N][4];
+    uint32_t run = 0;
+    for (int i = 0; i < N; ++i)
+        run |= beginQuadLanes(d, t, q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qx[size_t(i)], qy[size_t(i)],
+                              g.quad(i), zStore[i], c);
+    if (!run) return;
+    fp(g);
+    for (int i = 0; i < N; ++i) finishQuadLanes(d, qx[size_t(i)], qy[size_t(i)], g.quad(i), zStore[i], c);
 }
 
 template <class FP>
@@ -227,18 +319,19 @@ struct ProgramKernel {
         const int x0 = std::max(rx0, t.minX), x1 = std::min(rx1, t.maxX);
         const int y0 = std::max(ry0, t.minY), y1 = std::min(ry1, t.maxY);
         if (x0 > x1 || y0 > y1) return;
+        if constexpr (kIsGroupProgram<FP>) {
+            if (programAvx2())
+                runQuadGroupsAvx2(k, t, x0, y0, x1, y1, c);
+            else
+                runQuadGroups(k, t, x0, y0, x1, y1, c);
+            return;
+        }
         QuadVaryings q;
         std::array<float, 4> iw;
         std::conditional_t<kIsQuadProgram<FP>, QuadContext, FragmentContext> f;
         for (int qy = y0 & ~1; qy <= y1; qy += 2)
             for (int qx = x0 & ~1; qx <= x1; qx += 2) {
-                uint32_t mask = 0;
-                for (int p = 0; p < 4; ++p) {
-                    const int px = qx + (p & 1), py = qy + (p >> 1);
-                    if (px >= x0 && px <= x1 && py >= y0 && py <= y1 &&
-                        covers(t, px, py, d.subpixelBits))
-                        mask |= 1u << p;
-                }
+                const uint32_t mask = quadCoverage(d, t, qx, qy, x0, y0, x1, y1);
                 if (!mask) continue;
                 interpolateQuad(d, t, qx, qy, q, iw);
                 if constexpr (kIsQuadProgram<FP>) {
@@ -249,6 +342,87 @@ struct ProgramKernel {
                             shadeFragment(*k.fp, d, t, q, iw, p, qx + (p & 1), qy + (p >> 1), f, c);
                 }
             }
+    }
+
+    // The covered pixels of the quad at (qx, qy) inside the inclusive rectangle, bit p for
+    // pixel (qx + (p & 1), qy + (p >> 1)).
+    static uint32_t quadCoverage(const ProgramDraw& d, const ProgramTriangle& t, int qx, int qy, int x0,
+                                 int y0, int x1, int y1) {
+        uint32_t mask = 0;
+        for (int p = 0; p < 4; ++p) {
+            const int px = qx + (p & 1), py = qy + (p >> 1);
+            if (px >= x0 && px <= x1 && py >= y0 && py <= y1 && covers(t, px, py, d.subpixelBits))
+                mask |= 1u << p;
+        }
+        return mask;
+    }
+
+    // runQuadGroups compiled for AVX2 machines (selected at run time, programAvx2): the same
+    // SSE operations, VEX-encoded — three operands, so the quads' chains need no register
+    // copies — and SSE4.1's inserts and extracts for the texel loads. No FMA (target
+    // "avx2" alone, and -ffp-contract=off): every operation is the one of the SSE2 build.
+    [[gnu::target("avx2"), gnu::flatten]] static void runQuadGroupsAvx2(const ProgramKernel& k,
+                                                                     const ProgramTriangle& t, int x0, int y0,
+                                                                     int x1, int y1, ProgramCounters& c) {
+        runQuadGroups(k, t, x0, y0, x1, y1, c);
+    }
+
+    // runQuads for a group program: covered quads in the same order, kGroupQuads at a time;
+    // a last incomplete group runs quad by quad. Coverage steps the edge functions along
+    // each row of quads (the integers covers() computes, exactly), and the counters add up
+    // locally.
+    static void runQuadGroups(const ProgramKernel& k, const ProgramTriangle& t, int x0, int y0, int x1,
+                              int y1, ProgramCounters& counters) {
+        constexpr int N = kGroupQuads;
+        const ProgramDraw& d = *k.d;
+        ProgramCounters c;
+        std::array<QuadVaryings, N> q;
+        std::array<std::array<float, 4>, N> iw;
+        std::array<uint32_t, N> mask{};
+        std::array<int, N> qxs{}, qys{};
+        QuadGroupContext<N> g;
+        int pending = 0;
+        const int s = d.subpixelBits;
+        const int64_t half = int64_t{1} << (s - 1);
+        // Edge e at the quad's pixel p: E + off[e][p]; E steps by 2·A per quad along a row.
+        int64_t off[3][4], stepX[3];
+        for (int e = 0; e < 3; ++e) {
+            const int64_t a = t.A[size_t(e)] << s, b = t.B[size_t(e)] << s;
+            off[e][0] = 0;
+            off[e][1] = a;
+            off[e][2] = b;
+            off[e][3] = a + b;
+            stepX[e] = 2 * a;
+        }
+        const int qx0 = x0 & ~1;
+        for (int qy = y0 & ~1; qy <= y1; qy += 2) {
+            const uint32_t rows = (qy >= y0 ? 3u : 0u) | (qy + 1 <= y1 ? 12u : 0u);
+            const int64_t X = (int64_t(qx0) << s) + half, Y = (int64_t(qy) << s) + half;
+            int64_t E[3];
+            for (int e = 0; e < 3; ++e) E[e] = t.C[size_t(e)] + t.A[size_t(e)] * X + t.B[size_t(e)] * Y;
+            for (int qx = qx0; qx <= x1; qx += 2) {
+                uint32_t m = 0;
+                for (int p = 0; p < 4; ++p) {
+                    const int64_t all = (E[0] + off[0][p]) | (E[1] + off[1][p]) | (E[2] + off[2][p]);
+                    m |= uint32_t(all >= 0) << p;  // every edge ≥ 0
+                }
+                for (int e = 0; e < 3; ++e) E[e] += stepX[e];
+                m &= rows & ((qx >= x0 ? 5u : 0u) | (qx + 1 <= x1 ? 10u : 0u));
+                if (!m) continue;
+                interpolateQuad(d, t, qx, qy, q[size_t(pending)], iw[size_t(pending)]);
+                mask[size_t(pending)] = m;
+                qxs[size_t(pending)] = qx;
+                qys[size_t(pending)] = qy;
+                if (++pending == N) {
+                    shadeQuadGroup<FP, N>(*k.fp, d, t, q, iw, mask, qxs, qys, g, c);
+                    pending = 0;
+                }
+            }
+        }
+        for (int i = 0; i < pending; ++i)
+            shadeQuadLanes(*k.fp, d, t, q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qxs[size_t(i)],
+                           qys[size_t(i)], g.quad(i), c);
+        counters.add(c);
     }
 
     // Reference path: the triangle's box pixel by pixel in scanline order; each pixel's

@@ -44,9 +44,9 @@ struct Mask4 {
     __m128 v;
     Mask4() : v(_mm_setzero_ps()) {}
     explicit Mask4(__m128 m) : v(m) {}
-    static Mask4 fromBits(uint32_t bits) {
-        return Mask4(_mm_castsi128_ps(_mm_set_epi32(bits & 8 ? -1 : 0, bits & 4 ? -1 : 0,
-                                                    bits & 2 ? -1 : 0, bits & 1 ? -1 : 0)));
+    static Mask4 fromBits(uint32_t bits) {  // lane i: all ones where bit i is set
+        const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
+        return Mask4(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(bits)), bit), bit)));
     }
     uint32_t bits() const { return uint32_t(_mm_movemask_ps(v)); }
     bool any() const { return bits() != 0; }
@@ -136,13 +136,121 @@ inline Vec4x4 select(Mask4 m, const Vec4x4& a, const Vec4x4& b) {
     return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z), select(m, a.w, b.w)};
 }
 
+namespace detail {
+
+// The point-sampled fetch (NearestFloat2D) on N quads of four lanes at once, for a unit
+// with `lanes4` set. The unit's branches (address modes, power-of-two width, format) are
+// taken once for all N quads, so each quad's steps are straight-line code the core
+// overlaps with the other quads'.
+
+// detail::nearestTexel on 4N lanes, for WRAP on a power of two (n ≤ 2^22) or
+// CLAMP_TO_EDGE: ⌊c·n⌋ with NaN → 0 and the clamp to ±2^22, then the address mode.
+// NaN needs no compare of its own: MAXPS returns its second operand when either is NaN, so
+// max(u, −2^22) maps NaN to −2^22 (for WRAP: a multiple of n, texel 0 as NaN → 0 gives)
+// and max(u, 0) maps it to 0 (CLAMP_TO_EDGE). Clamping the float to [0, n − 1] before the
+// floor equals clamping the floored integer, and truncation of a non-negative float is
+// its floor.
+template <int N>
+[[gnu::always_inline]] inline void nearestTexels(const __m128 (&c)[N], int n, bool wrap, __m128i (&out)[N]) {
+    const __m128 scale = _mm_set1_ps(float(n));
+    if (!wrap) {
+        const __m128 last = _mm_set1_ps(float(n - 1));
+#pragma GCC unroll 8
+        for (int i = 0; i < N; ++i)
+            out[i] = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(_mm_mul_ps(c[i], scale), _mm_setzero_ps()), last));
+        return;
+    }
+    const __m128 lo = _mm_set1_ps(-4194304.0f), hi = _mm_set1_ps(4194304.0f);
+    const __m128i wrapMask = _mm_set1_epi32(n - 1);
+#pragma GCC unroll 8
+    for (int i = 0; i < N; ++i) {
+        const __m128 u = _mm_min_ps(_mm_max_ps(_mm_mul_ps(c[i], scale), lo), hi);
+        const __m128i t = _mm_cvttps_epi32(u);
+        // Truncation rounded a negative non-integer up: step down (the mask is −1 there).
+        out[i] = _mm_and_si128(_mm_add_epi32(t, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(t), u))), wrapMask);
+    }
+}
+
+// The texel indices y·width + x of NearestFloat2D::fetch at 4N lanes' (s, t).
+template <int N>
+[[gnu::always_inline]] inline void nearestIndices(const NearestFloat2D& n, const __m128 (&s)[N], const __m128 (&t)[N],
+                           __m128i (&idx)[N]) {
+    nearestTexels<N>(s, n.width, n.wrapS, idx);
+    if (n.height == 1) return;
+    __m128i y[N];
+    nearestTexels<N>(t, n.height, n.wrapT, y);
+    if (n.widthShift >= 0) {
+        const __m128i shift = _mm_cvtsi32_si128(n.widthShift);
+#pragma GCC unroll 8
+        for (int i = 0; i < N; ++i) idx[i] = _mm_add_epi32(_mm_sll_epi32(y[i], shift), idx[i]);
+        return;
+    }
+    // y·width without SSE4.1's PMULLD: even and odd lanes through PMULUDQ (the products are
+    // below 2^31: the level's texel count).
+    const __m128i w = _mm_set1_epi32(n.width);
+    for (int i = 0; i < N; ++i) {
+        const __m128i even = _mm_mul_epu32(y[i], w), odd = _mm_mul_epu32(_mm_srli_epi64(y[i], 32), w);
+        const __m128i yw = _mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
+                                              _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)));
+        idx[i] = _mm_add_epi32(yw, idx[i]);
+    }
+}
+
+// NearestFloat2D::fetch at the texel indices, lanes outside `live` zero. Every index is
+// inside the level (addressing saw to it), so all four of a quad are read without a
+// branch. The tap sum's 0 + texel turns −0 into +0.
+template <int N>
+[[gnu::always_inline]] inline void nearestLoads(const NearestFloat2D& n, const __m128i (&idx)[N],
+                                                const __m128 (&live)[N], __m128 (&x)[N], __m128 (&y)[N],
+                                                __m128 (&z)[N], __m128 (&w)[N]) {
+    auto index = [](__m128i v, int lane) {
+        return size_t(uint32_t(_mm_cvtsi128_si32(lane == 0 ? v : _mm_shuffle_epi32(v, lane * 0x55))));
+    };
+    const __m128 zero = _mm_setzero_ps();
+    if (n.data1) {
+        const float* d = n.data1;
+#pragma GCC unroll 8
+        for (int i = 0; i < N; ++i) {
+            const size_t i0 = index(idx[i], 0), i1 = index(idx[i], 1), i2 = index(idx[i], 2), i3 = index(idx[i], 3);
+            x[i] = _mm_and_ps(_mm_add_ps(_mm_setr_ps(d[i0], d[i1], d[i2], d[i3]), zero), live[i]);
+            y[i] = n.depth ? x[i] : zero;  // (d, d, d, 1) for depth, else (r, 0, 0, 1)
+            z[i] = y[i];
+            w[i] = _mm_and_ps(_mm_set1_ps(1.0f), live[i]);
+        }
+        return;
+    }
+    for (int i = 0; i < N; ++i) {
+        __m128 t0 = _mm_loadu_ps(&n.data4[index(idx[i], 0)].x), t1 = _mm_loadu_ps(&n.data4[index(idx[i], 1)].x);
+        __m128 t2 = _mm_loadu_ps(&n.data4[index(idx[i], 2)].x), t3 = _mm_loadu_ps(&n.data4[index(idx[i], 3)].x);
+        _MM_TRANSPOSE4_PS(t0, t1, t2, t3);
+        x[i] = _mm_and_ps(_mm_add_ps(t0, zero), live[i]);
+        y[i] = _mm_and_ps(_mm_add_ps(t1, zero), live[i]);
+        z[i] = _mm_and_ps(_mm_add_ps(t2, zero), live[i]);
+        w[i] = _mm_and_ps(_mm_add_ps(t3, zero), live[i]);
+    }
+}
+
+}  // namespace detail
+
+template <int N>
+class QuadGroupContext;
+
 // What a quad program sees: lane i is pixel i of the quad (x + (i & 1), y + (i >> 1)).
 // active() are the lanes the program runs for (covered, past the early depth test, not
 // discarded); other lanes compute along (their varyings are the planes' extrapolation) but
 // fetch nothing and write nothing.
 class QuadContext {
   public:
-    Mask4 active() const { return Mask4::fromBits(active_ & ~discarded_); }
+    // The lane types, so that a program written as a template on its context
+    // (`template <class Q> void operator()(Q& q) const`, using `typename Q::Float`) runs on
+    // one quad here and on a QuadGroupContext below.
+    using Float = Float4;
+    using Mask = Mask4;
+    using Vec3 = Vec3x4;
+    using Vec4 = Vec4x4;
+    static constexpr int kQuads = 1;
+
+    Mask4 active() const { return Mask4(live_); }
     Vec4x4 varying(int k) const { return Vec4x4::fromLanes(quad_->v[size_t(k)]); }
     // Pixel centres, window z and 1/w per lane (gl_FragCoord).
     const Vec4x4& fragCoord() const { return fragCoord_; }
@@ -152,10 +260,16 @@ class QuadContext {
     // hardware: a lane that has left a loop fetches (and counts) nothing.
     Vec4x4 sampleLevel(int unit, const Vec4x4& c, Float4 lod, Mask4 m = Mask4::fromBits(15)) {
         const detail::BoundUnit& b = this->unit(unit);
-        const uint32_t lanes = active_ & ~discarded_ & m.bits();
-        Vec4x4 r;
-        if (b.nearest.valid() && setup_->path == Path::Fast && fetchNearest4(b.nearest, c, lanes, r)) return r;
-        return sampleLevelLanes(b, c, lod, lanes);
+        if (b.nearest.lanes4 && setup_->path == Path::Fast) {
+            const __m128 s[1] = {c.x.v}, t[1] = {c.y.v};
+            const __m128 live[1] = {liveLanes(m)};
+            __m128i idx[1];
+            __m128 x[1], y[1], z[1], w[1];
+            detail::nearestIndices<1>(b.nearest, s, t, idx);
+            detail::nearestLoads<1>(b.nearest, idx, live, x, y, z, w);
+            return Vec4x4(Float4(x[0]), Float4(y[0]), Float4(z[0]), Float4(w[0]));
+        }
+        return sampleLevelLanes(b, c, lod, active_ & ~discarded_ & m.bits());
     }
 
     // Unit `unit` at varying `k` with λ from that varying over the quad (texture2D, Sample),
@@ -163,7 +277,10 @@ class QuadContext {
     Vec4x4 sample(int unit, int k, Mask4 m = Mask4::fromBits(15));
     Float4 sampleCompare(int unit, const Vec4x4& c, Float4 ref, Mask4 m = Mask4::fromBits(15));
 
-    void discard(Mask4 m) { discarded_ |= m.bits() & active_; }
+    void discard(Mask4 m) {
+        discarded_ |= m.bits() & active_;
+        live_ = Mask4::fromBits(active_ & ~discarded_).v;
+    }
     void output(int target, const Vec4x4& color, Mask4 m = Mask4::fromBits(15)) {
         if (target < 0 || target >= kMaxColorTargets || !((setup_->declaredTargets >> target) & 1u))
             undeclaredTarget(target);
@@ -180,6 +297,7 @@ class QuadContext {
         quad_ = quad;
         active_ = active;
         discarded_ = 0;
+        live_ = Mask4::fromBits(active).v;
         fragCoord_ = fragCoord;
         writtenLanes_ = {};
         fetches_ = {};
@@ -210,63 +328,249 @@ class QuadContext {
     }
     Vec4x4 sampleLevelLanes(const detail::BoundUnit& b, const Vec4x4& c, Float4 lod, uint32_t lanes);
 
-    // detail::nearestTexel on four lanes: ⌊c·n⌋ (NaN → 0, clamped to ±2^22), then WRAP (a
-    // power-of-two mask) or CLAMP_TO_EDGE. Clamping the float to [0, n − 1] before the floor
-    // equals clamping the floored integer. Non-power-of-two WRAP: false (lane by lane).
-    static bool nearestTexels4(__m128 c, int n, bool wrap, __m128i& out) {
-        if (wrap && (n & (n - 1)) != 0) return false;
-        __m128 u = _mm_mul_ps(c, _mm_set1_ps(float(n)));
-        u = _mm_and_ps(u, _mm_cmpord_ps(u, u));  // NaN → 0
-        if (wrap)
-            u = _mm_max_ps(_mm_min_ps(u, _mm_set1_ps(4194304.0f)), _mm_set1_ps(-4194304.0f));
-        else
-            u = _mm_max_ps(_mm_min_ps(u, _mm_set1_ps(float(n - 1))), _mm_setzero_ps());
-        __m128i i = _mm_cvttps_epi32(u);
-        // Truncation rounded a negative non-integer up: step down (the mask is −1 there).
-        i = _mm_add_epi32(i, _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i), u)));
-        if (wrap) i = _mm_and_si128(i, _mm_set1_epi32(n - 1));
-        out = i;
-        return true;
-    }
-    // Point sampling (detail::NearestFloat2D) of the four lanes; inactive lanes read zero.
-    // Every lane's texel is inside the level (addressing saw to it), so all four are read
-    // and the inactive ones zeroed afterwards, without a branch per lane.
-    bool fetchNearest4(const detail::NearestFloat2D& n, const Vec4x4& c, uint32_t lanes, Vec4x4& r) {
-        __m128i xi, yi = _mm_setzero_si128();
-        if (!nearestTexels4(c.x.v, n.width, n.wrapS, xi)) return false;
-        if (n.height != 1 && !nearestTexels4(c.y.v, n.height, n.wrapT, yi)) return false;
-        alignas(16) int32_t xs[4], ys[4];
-        _mm_store_si128(reinterpret_cast<__m128i*>(xs), xi);
-        _mm_store_si128(reinterpret_cast<__m128i*>(ys), yi);
-        size_t idx[4];
-        for (int i = 0; i < 4; ++i) idx[i] = size_t(ys[i]) * size_t(n.width) + size_t(xs[i]);
-        const __m128 live = Mask4::fromBits(lanes).v;
-        for (int i = 0; i < 4; ++i) fetches_[size_t(i)] += (lanes >> i) & 1u;
-        const __m128 z = _mm_setzero_ps();
-        if (n.data1) {
-            // The tap sum's 0 + texel: −0 becomes +0.
-            const Float4 v(_mm_and_ps(
-                _mm_add_ps(_mm_setr_ps(n.data1[idx[0]], n.data1[idx[1]], n.data1[idx[2]], n.data1[idx[3]]), z),
-                live));
-            const Float4 one(_mm_and_ps(_mm_set1_ps(1.0f), live));
-            r = n.depth ? Vec4x4(v, v, v, one) : Vec4x4(v, Float4(0.0f), Float4(0.0f), one);
-            return true;
-        }
-        __m128 t0 = _mm_loadu_ps(&n.data4[idx[0]].x), t1 = _mm_loadu_ps(&n.data4[idx[1]].x);
-        __m128 t2 = _mm_loadu_ps(&n.data4[idx[2]].x), t3 = _mm_loadu_ps(&n.data4[idx[3]].x);
-        _MM_TRANSPOSE4_PS(t0, t1, t2, t3);
-        r = Vec4x4(Float4(_mm_and_ps(_mm_add_ps(t0, z), live)), Float4(_mm_and_ps(_mm_add_ps(t1, z), live)),
-                   Float4(_mm_and_ps(_mm_add_ps(t2, z), live)), Float4(_mm_and_ps(_mm_add_ps(t3, z), live)));
-        return true;
+    template <int>
+    friend class QuadGroupContext;
+    // The lanes of a point-sampled fetch: active and in `m`; each counts a fetch.
+    __m128 liveLanes(Mask4 m) {
+        const __m128 live = _mm_and_ps(live_, m.v);
+        __m128i* count = reinterpret_cast<__m128i*>(fetches_.data());
+        _mm_store_si128(count, _mm_sub_epi32(_mm_load_si128(count), _mm_castps_si128(live)));
+        return live;
     }
 
     const FragmentContext::Setup* setup_ = nullptr;
     const detail::QuadVaryings* quad_ = nullptr;
     uint32_t active_ = 0, discarded_ = 0;
+    __m128 live_ = _mm_setzero_ps();  // active_ & ~discarded_ as lane masks
     Vec4x4 fragCoord_;
     std::array<uint32_t, kMaxColorTargets> writtenLanes_{};  // per target, bit i: lane i
-    std::array<uint32_t, 4> fetches_{};
+    alignas(16) std::array<uint32_t, 4> fetches_{};  // per lane; the fast fetch adds four at once
     std::array<Vec4x4, kMaxColorTargets> out_{};
+};
+
+// ---- quad groups ---------------------------------------------------------------------------
+//
+// N quads run side by side: every lane type holds N Float4 (quad i in q[i]) and every
+// operation is the Float4 operation quad by quad, so lane j of quad i computes exactly what
+// it computes when the quad runs alone. What it buys is latency: a search loop is one long
+// chain of dependent steps per quad (coordinate, texel index, load, compare, select), and N
+// independent chains interleaved keep the core busy while each waits — the way llvmpipe's
+// 8-wide JIT code and the G80's warps hide the latency of a fetch.
+//
+// A program opts in by taking its context as a template parameter and naming its types
+// through it (typename Q::Float, Q::Mask, Q::Vec3, Q::Vec4); it must treat lanes alike (no
+// lane index, no horizontal operation other than a mask's any()/all() for loop exits —
+// which with masked lanes give the same result as per quad). The reference path runs such
+// a program one lane at a time on a QuadContext, so the differential tests cover it.
+
+template <int N>
+struct MaskQ {
+    std::array<Mask4, N> q{};
+    static MaskQ allLanes() {
+        MaskQ m;
+        m.q.fill(Mask4::fromBits(15));
+        return m;
+    }
+    uint32_t bits() const {
+        uint32_t b = 0;
+        for (int i = 0; i < N; ++i) b |= q[size_t(i)].bits() << (4 * i);
+        return b;
+    }
+    bool any() const { return bits() != 0; }
+    bool all() const { return bits() == (uint32_t(1) << (4 * N)) - 1u; }
+    template <class Op>
+    static MaskQ zip(const MaskQ& a, const MaskQ& b, Op op) {
+        MaskQ r;
+        for (int i = 0; i < N; ++i) r.q[size_t(i)] = op(a.q[size_t(i)], b.q[size_t(i)]);
+        return r;
+    }
+    friend MaskQ operator&(const MaskQ& a, const MaskQ& b) { return zip(a, b, [](Mask4 x, Mask4 y) { return x & y; }); }
+    friend MaskQ operator|(const MaskQ& a, const MaskQ& b) { return zip(a, b, [](Mask4 x, Mask4 y) { return x | y; }); }
+    friend MaskQ operator^(const MaskQ& a, const MaskQ& b) { return zip(a, b, [](Mask4 x, Mask4 y) { return x ^ y; }); }
+    friend MaskQ andNot(const MaskQ& a, const MaskQ& b) {
+        return zip(a, b, [](Mask4 x, Mask4 y) { return andNot(x, y); });
+    }
+};
+
+template <int N>
+struct FloatQ {
+    std::array<Float4, N> q{};
+    FloatQ() = default;
+    FloatQ(float s) { q.fill(Float4(s)); }  // NOLINT: broadcasts like a scalar
+    float operator[](int i) const { return q[size_t(i >> 2)][i & 3]; }
+    template <class F>
+    static FloatQ fromQuads(F f) {  // quad i: f(i)
+        FloatQ r;
+#pragma GCC unroll 8
+        for (int i = 0; i < N; ++i) r.q[size_t(i)] = f(i);
+        return r;
+    }
+    template <class Op>
+    static FloatQ zip(const FloatQ& a, const FloatQ& b, Op op) {
+        FloatQ r;
+        for (int i = 0; i < N; ++i) r.q[size_t(i)] = op(a.q[size_t(i)], b.q[size_t(i)]);
+        return r;
+    }
+    template <class Op>
+    static MaskQ<N> compare(const FloatQ& a, const FloatQ& b, Op op) {
+        MaskQ<N> r;
+        for (int i = 0; i < N; ++i) r.q[size_t(i)] = op(a.q[size_t(i)], b.q[size_t(i)]);
+        return r;
+    }
+    friend FloatQ operator+(const FloatQ& a, const FloatQ& b) { return zip(a, b, [](Float4 x, Float4 y) { return x + y; }); }
+    friend FloatQ operator-(const FloatQ& a, const FloatQ& b) { return zip(a, b, [](Float4 x, Float4 y) { return x - y; }); }
+    friend FloatQ operator*(const FloatQ& a, const FloatQ& b) { return zip(a, b, [](Float4 x, Float4 y) { return x * y; }); }
+    friend FloatQ operator/(const FloatQ& a, const FloatQ& b) { return zip(a, b, [](Float4 x, Float4 y) { return x / y; }); }
+    friend FloatQ operator-(const FloatQ& a) { return zip(a, a, [](Float4 x, Float4) { return -x; }); }
+    FloatQ& operator+=(const FloatQ& b) { return *this = *this + b; }
+    FloatQ& operator-=(const FloatQ& b) { return *this = *this - b; }
+    FloatQ& operator*=(const FloatQ& b) { return *this = *this * b; }
+    friend MaskQ<N> operator<(const FloatQ& a, const FloatQ& b) { return compare(a, b, [](Float4 x, Float4 y) { return x < y; }); }
+    friend MaskQ<N> operator<=(const FloatQ& a, const FloatQ& b) { return compare(a, b, [](Float4 x, Float4 y) { return x <= y; }); }
+    friend MaskQ<N> operator>(const FloatQ& a, const FloatQ& b) { return compare(a, b, [](Float4 x, Float4 y) { return x > y; }); }
+    friend MaskQ<N> operator>=(const FloatQ& a, const FloatQ& b) { return compare(a, b, [](Float4 x, Float4 y) { return x >= y; }); }
+    friend MaskQ<N> operator==(const FloatQ& a, const FloatQ& b) { return compare(a, b, [](Float4 x, Float4 y) { return x == y; }); }
+    friend MaskQ<N> operator!=(const FloatQ& a, const FloatQ& b) { return compare(a, b, [](Float4 x, Float4 y) { return x != y; }); }
+};
+
+template <int N>
+FloatQ<N> select(const MaskQ<N>& m, const FloatQ<N>& a, const FloatQ<N>& b) {
+    FloatQ<N> r;
+    for (int i = 0; i < N; ++i) r.q[size_t(i)] = select(m.q[size_t(i)], a.q[size_t(i)], b.q[size_t(i)]);
+    return r;
+}
+template <int N>
+FloatQ<N> min(const FloatQ<N>& a, const FloatQ<N>& b) {
+    return FloatQ<N>::zip(a, b, [](Float4 x, Float4 y) { return min(x, y); });
+}
+template <int N>
+FloatQ<N> max(const FloatQ<N>& a, const FloatQ<N>& b) {
+    return FloatQ<N>::zip(a, b, [](Float4 x, Float4 y) { return max(x, y); });
+}
+template <int N>
+FloatQ<N> sqrt(const FloatQ<N>& a) {
+    return FloatQ<N>::zip(a, a, [](Float4 x, Float4) { return sqrt(x); });
+}
+template <int N>
+FloatQ<N> abs(const FloatQ<N>& a) {
+    return FloatQ<N>::zip(a, a, [](Float4 x, Float4) { return abs(x); });
+}
+
+template <int N>
+struct Vec3Q {
+    FloatQ<N> x, y, z;
+    Vec3Q() = default;
+    Vec3Q(const FloatQ<N>& a, const FloatQ<N>& b, const FloatQ<N>& c) : x(a), y(b), z(c) {}
+    friend Vec3Q operator+(const Vec3Q& a, const Vec3Q& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+    friend Vec3Q operator-(const Vec3Q& a, const Vec3Q& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+    friend Vec3Q operator*(const Vec3Q& a, const FloatQ<N>& s) { return {a.x * s, a.y * s, a.z * s}; }
+    friend Vec3Q operator*(const Vec3Q& a, const Vec3Q& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+};
+template <int N>
+FloatQ<N> dot(const Vec3Q<N>& a, const Vec3Q<N>& b) {  // glm::dot's order, as dot(Vec3x4)
+    return (a.x * b.x + a.y * b.y) + a.z * b.z;
+}
+template <int N>
+Vec3Q<N> select(const MaskQ<N>& m, const Vec3Q<N>& a, const Vec3Q<N>& b) {
+    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
+}
+
+template <int N>
+struct Vec4Q {
+    FloatQ<N> x, y, z, w;
+    Vec4Q() = default;
+    Vec4Q(const FloatQ<N>& a, const FloatQ<N>& b, const FloatQ<N>& c, const FloatQ<N>& d)
+        : x(a), y(b), z(c), w(d) {}
+    Vec3Q<N> xyz() const { return {x, y, z}; }
+    Vec4x4 quad(int i) const { return {x.q[size_t(i)], y.q[size_t(i)], z.q[size_t(i)], w.q[size_t(i)]}; }
+    void setQuad(int i, const Vec4x4& v) {
+        x.q[size_t(i)] = v.x;
+        y.q[size_t(i)] = v.y;
+        z.q[size_t(i)] = v.z;
+        w.q[size_t(i)] = v.w;
+    }
+    friend Vec4Q operator+(const Vec4Q& a, const Vec4Q& b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
+    friend Vec4Q operator-(const Vec4Q& a, const Vec4Q& b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
+    friend Vec4Q operator*(const Vec4Q& a, const FloatQ<N>& s) { return {a.x * s, a.y * s, a.z * s, a.w * s}; }
+    friend Vec4Q operator*(const Vec4Q& a, const Vec4Q& b) { return {a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w}; }
+};
+template <int N>
+Vec4Q<N> select(const MaskQ<N>& m, const Vec4Q<N>& a, const Vec4Q<N>& b) {
+    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z), select(m, a.w, b.w)};
+}
+
+// What a program sees of N quads: the QuadContext interface on 4N lanes, each call the
+// QuadContext call of every quad (quad i: lanes 4i … 4i + 3).
+template <int N>
+class QuadGroupContext {
+  public:
+    using Float = FloatQ<N>;
+    using Mask = MaskQ<N>;
+    using Vec3 = Vec3Q<N>;
+    using Vec4 = Vec4Q<N>;
+    static constexpr int kQuads = N;
+
+    Mask active() const {
+        Mask m;
+        for (int i = 0; i < N; ++i) m.q[size_t(i)] = quads_[size_t(i)].active();
+        return m;
+    }
+    Vec4 varying(int k) const { return each([&](const QuadContext& c) { return c.varying(k); }); }
+    Vec4 fragCoord() const { return each([](const QuadContext& c) { return c.fragCoord(); }); }
+    // Inlined into the program whatever its size: the quads' chains interleave only there.
+    [[gnu::always_inline]] Vec4 sampleLevel(int unit, const Vec4& c, const Float& lod, const Mask& m = Mask::allLanes()) {
+        const detail::BoundUnit& b = quads_[0].unit(unit);
+        if (!(b.nearest.lanes4 && quads_[0].setup_->path == Path::Fast)) return sampleLevelQuads(unit, c, lod, m);
+        __m128 s[N], t[N], live[N];
+        for (int i = 0; i < N; ++i) {
+            s[i] = c.x.q[size_t(i)].v;
+            t[i] = c.y.q[size_t(i)].v;
+            live[i] = quads_[size_t(i)].liveLanes(m.q[size_t(i)]);
+        }
+        __m128i idx[N];
+        __m128 x[N], y[N], z[N], w[N];
+        detail::nearestIndices<N>(b.nearest, s, t, idx);
+        detail::nearestLoads<N>(b.nearest, idx, live, x, y, z, w);
+        auto lanes = [](const __m128(&v)[N]) { return FloatQ<N>::fromQuads([&](int i) { return Float4(v[i]); }); };
+        return Vec4(lanes(x), lanes(y), lanes(z), lanes(w));
+    }
+    Vec4 sample(int unit, int k, const Mask& m = Mask::allLanes()) {
+        Vec4 r;
+        for (int i = 0; i < N; ++i) r.setQuad(i, quads_[size_t(i)].sample(unit, k, m.q[size_t(i)]));
+        return r;
+    }
+    Float sampleCompare(int unit, const Vec4& c, const Float& ref, const Mask& m = Mask::allLanes()) {
+        Float r;
+        for (int i = 0; i < N; ++i)
+            r.q[size_t(i)] = quads_[size_t(i)].sampleCompare(unit, c.quad(i), ref.q[size_t(i)], m.q[size_t(i)]);
+        return r;
+    }
+    void discard(const Mask& m) {
+        for (int i = 0; i < N; ++i) quads_[size_t(i)].discard(m.q[size_t(i)]);
+    }
+    void output(int target, const Vec4& color, const Mask& m = Mask::allLanes()) {
+        for (int i = 0; i < N; ++i) quads_[size_t(i)].output(target, color.quad(i), m.q[size_t(i)]);
+    }
+
+    // ---- used by the pipeline --------------------------------------------------------------
+    QuadContext& quad(int i) { return quads_[size_t(i)]; }
+
+  private:
+    // Quad by quad: filtered samplers, non-power-of-two WRAP, the reference path.
+    // By value: only this branch materializes the arguments in memory.
+    [[gnu::noinline]] Vec4 sampleLevelQuads(int unit, Vec4 c, Float lod, Mask m) {
+        Vec4 r;
+        for (int i = 0; i < N; ++i)
+            r.setQuad(i, quads_[size_t(i)].sampleLevel(unit, c.quad(i), lod.q[size_t(i)], m.q[size_t(i)]));
+        return r;
+    }
+    template <class F>
+    Vec4 each(F f) const {
+        Vec4 r;
+        for (int i = 0; i < N; ++i) r.setQuad(i, f(quads_[size_t(i)]));
+        return r;
+    }
+    std::array<QuadContext, N> quads_;
 };
 
 }  // namespace rg::raster
