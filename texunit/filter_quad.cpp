@@ -242,7 +242,10 @@ template <Target kTarget>
         lambda = quadLambdaInline(lane<0>(s), s1, s2, lane<0>(t), t1, t2, qs.baseSizeF[0],
                                   qs.baseSizeF[1], 2);
     } else {
-        if (qs.projected) {
+        // x/1 is x (exact division; a NaN stays a NaN, which every later step treats
+        // alike whatever its payload), so q = 1 on all four pixels — affine coordinates,
+        // the common case — skips the two divisions.
+        if (qs.projected && _mm_movemask_ps(_mm_cmpneq_ps(w, _mm_set1_ps(1.0f))) != 0) {
             x = _mm_div_ps(x, w);
             y = _mm_div_ps(y, w);
         }
@@ -407,11 +410,13 @@ struct Lanes8 {
 // Σ wx·(t − 128) over taps a (weight 256 − α) and b (weight α) of each pixel: R − 2^15
 // per channel (pairBiased for four pixels). `we`/`wo`: spreadPixels of the weight pairs.
 [[gnu::always_inline]] RG_AVX2 inline Lanes8 rowPairs8(const Rgba8* d, const int32_t* ia, const int32_t* ib,
-                                __m256i we, __m256i wo) {
+                                __m256i we, __m256i wo, bool adjacent) {
     // Texels (a0 b0 a1 b1 | a2 b2 a3 b3), loaded one by one: vpgatherdd measured slower
     // than eight scalar loads (AMD EPYC, tex_bilinear_2d: the sampler 28 → 31 % of the
-    // frame).
+    // frame). When every b is the texel after its a (QuadFootprint::adjacent), (a b) is one
+    // 8-byte load of two texels that both exist: the same values, half the loads.
     auto two = [&](int p) {
+        if (adjacent) return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(d + ia[p]));
         return _mm_unpacklo_epi32(load4(d + ia[p]), load4(d + ib[p]));
     };
     const __m256i g = _mm256_set_m128i(_mm_unpacklo_epi64(two(2), two(3)),
@@ -432,8 +437,8 @@ struct Lanes8 {
     __m256i wxe, wxo, wye, wyo;
     spreadPixels(fp.wx[li], wxe, wxo);
     spreadPixels(fp.wy[li], wye, wyo);
-    const Lanes8 r0 = rowPairs8(d, fp.i00[li], fp.i01[li], wxe, wxo);
-    const Lanes8 r1 = rowPairs8(d, fp.i10[li], fp.i11[li], wxe, wxo);
+    const Lanes8 r0 = rowPairs8(d, fp.i00[li], fp.i01[li], wxe, wxo, fp.adjacent[li]);
+    const Lanes8 r1 = rowPairs8(d, fp.i10[li], fp.i11[li], wxe, wxo, fp.adjacent[li]);
     return {_mm256_madd_epi16(interleaveHalves8(_mm256_packs_epi32(r0.even, r1.even)), wye),
             _mm256_madd_epi16(interleaveHalves8(_mm256_packs_epi32(r0.odd, r1.odd)), wyo)};
 }
@@ -521,6 +526,8 @@ template <Target kTarget, Addr kS, Addr kT>
                 ? _mm_mullo_epi32(face4, _mm_set1_epi32(int32_t(L.faceStride)))
                 : _mm_setzero_si128();
         const __m128i x0 = _mm256_castsi256_si128(i0), x1 = _mm256_castsi256_si128(i1);
+        fp.adjacent[li] = _mm_movemask_epi8(_mm_cmpeq_epi32(
+                              x1, _mm_add_epi32(x0, _mm_set1_epi32(1)))) == 0xFFFF;
         store(fp.wx[li], _mm256_castsi256_si128(w));
         if constexpr (kTwoD) {
             const __m128i wv = _mm_set1_epi32(L.width);
@@ -560,7 +567,7 @@ template <bool kTwoD>
     } else {
         __m256i we, wo;
         spreadPixels(fp.wx[li], we, wo);
-        return rowPairs8(d, fp.i00[li], fp.i01[li], we, wo);
+        return rowPairs8(d, fp.i00[li], fp.i01[li], we, wo, fp.adjacent[li]);
     }
 }
 template <bool kTwoD>
@@ -626,7 +633,11 @@ __m128i gatherKernel(const QuadSampler& qs, const QuadFootprint& fp) {
 // ---- whole cascades ---------------------------------------------------------------------
 // One sampled stage of a cascade: the sampler of kind (kT, kS, kU) inlined, then the
 // stage's MODULATE/MODULATE arithmetic (quad::evaluate, as shadeQuad's general loop).
-template <Target kT, Addr kS, Addr kU>
+// kTexCur: both ops read (TEXTURE, CURRENT) without modifiers or scale (GL MODULATE, the
+// PEM passes), where evaluate<Modulate, Modulate> is mulDiv255(texel, CURRENT) on all
+// four channels — its colour result, returned for alpha too (same op, same arguments) —
+// so the argument selection is left out.
+template <Target kT, Addr kS, Addr kU, bool kTexCur>
 [[gnu::always_inline]] RG_AVX2 inline uint64_t cascadeStage(const CompiledStages& c, int i,
                                                             const FragmentQuad& q,
                                                             quad::Regs& r) {
@@ -635,33 +646,54 @@ template <Target kT, Addr kS, Addr kU>
     QuadFootprint fp;
     const uint64_t n = prepareQuadAvx2<kT, kS, kU>(qs, q.texCoord[st.texCoordIndex], fp);
     r[arg::Texture] = gatherQuadAvx2<kT != Target::OneD>(qs, fp);
-    r[arg::Current] = quad::evaluate<TextureOp::Modulate, TextureOp::Modulate>(st, r);
+    if constexpr (kTexCur)
+        r[arg::Current] = quad::mulDiv255(r[arg::Texture], r[arg::Current]);
+    else
+        r[arg::Current] = quad::evaluate<TextureOp::Modulate, TextureOp::Modulate>(st, r);
     return n;
 }
+// The stage inputs; with kTexCur only CURRENT (= DIFFUSE) is read. The rasterizer writes
+// the quad's colours with one 16-byte store (fragment_quad_textured.h) or as an array copy,
+// so one 16-byte load.
+template <bool kTexCur>
 [[gnu::always_inline]] inline quad::Regs cascadeInputs(const FragmentQuad& q, __m128i tfactor) {
     quad::Regs r;
-    r[arg::Diffuse] = quad::loadPixels(q.diffuse);
-    r[arg::Specular] = quad::loadPixels(q.specular);
+    r[arg::Diffuse] = quad::load(q.diffuse);
     r[arg::Current] = r[arg::Diffuse];
-    r[arg::TFactor] = tfactor;
+    if constexpr (!kTexCur) {
+        r[arg::Specular] = quad::load(q.specular);
+        r[arg::TFactor] = tfactor;
+    }
     return r;
 }
-template <Target kT, Addr kS, Addr kU>
+template <Target kT, Addr kS, Addr kU, bool kTexCur>
 RG_AVX2 uint64_t cascadeOne(const CompiledStages& c, const FragmentQuad& q, __m128i tfactor,
                             __m128i& out) {
-    quad::Regs r = cascadeInputs(q, tfactor);
-    const uint64_t n = cascadeStage<kT, kS, kU>(c, 0, q, r);
+    quad::Regs r = cascadeInputs<kTexCur>(q, tfactor);
+    const uint64_t n = cascadeStage<kT, kS, kU, kTexCur>(c, 0, q, r);
     out = r[arg::Current];
     return n;
 }
-template <Target kT0, Addr kS0, Addr kU0, Target kT1, Addr kS1, Addr kU1>
+template <Target kT0, Addr kS0, Addr kU0, Target kT1, Addr kS1, Addr kU1, bool kTexCur>
 RG_AVX2 uint64_t cascadeTwo(const CompiledStages& c, const FragmentQuad& q, __m128i tfactor,
                             __m128i& out) {
-    quad::Regs r = cascadeInputs(q, tfactor);
-    uint64_t n = cascadeStage<kT0, kS0, kU0>(c, 0, q, r);
-    n += cascadeStage<kT1, kS1, kU1>(c, 1, q, r);
+    quad::Regs r = cascadeInputs<kTexCur>(q, tfactor);
+    uint64_t n = cascadeStage<kT0, kS0, kU0, kTexCur>(c, 0, q, r);
+    n += cascadeStage<kT1, kS1, kU1, kTexCur>(c, 1, q, r);
     out = r[arg::Current];
     return n;
+}
+// True when every one of the `active` stages is MODULATE(TEXTURE, CURRENT) for colour and
+// alpha with no scale (cascadeStage's kTexCur).
+bool texCurOnly(const CompiledStages& c, int active) {
+    for (int i = 0; i < active; ++i) {
+        const StageState& st = c.state[size_t(i)];
+        if (st.colorArg1 != arg::Texture || st.colorArg2 != arg::Current ||
+            st.alphaArg1 != arg::Texture || st.alphaArg2 != arg::Current ||
+            st.colorScaleShift != 0 || st.alphaScaleShift != 0)
+            return false;
+    }
+    return true;
 }
 
 bool specialisable(AddressMode m, int n) {
@@ -712,19 +744,25 @@ void compileCascade(CompiledStages& c, int active, uint32_t sampling) {
             return;
     }
     const QuadSampleFn f0 = c.stage[0].fn;
+    const bool texCur = texCurOnly(c, active);
+    auto one = [&]<Target kT, Addr kS, Addr kU>() {
+        c.cascade = texCur ? &cascadeOne<kT, kS, kU, true> : &cascadeOne<kT, kS, kU, false>;
+    };
     if (active == 1) {
         if (f0 == &sampleQuadKernelAvx2<Target::TwoD, Addr::Pow2, Addr::Pow2>)
-            c.cascade = &cascadeOne<Target::TwoD, Addr::Pow2, Addr::Pow2>;
+            one.template operator()<Target::TwoD, Addr::Pow2, Addr::Pow2>();
         else if (f0 == &sampleQuadKernelAvx2<Target::TwoD, Addr::Edge, Addr::Edge>)
-            c.cascade = &cascadeOne<Target::TwoD, Addr::Edge, Addr::Edge>;
+            one.template operator()<Target::TwoD, Addr::Edge, Addr::Edge>();
         else if (f0 == &sampleQuadKernelAvx2<Target::Cube, Addr::Edge, Addr::Edge>)
-            c.cascade = &cascadeOne<Target::Cube, Addr::Edge, Addr::Edge>;
+            one.template operator()<Target::Cube, Addr::Edge, Addr::Edge>();
         return;
     }
     if (f0 == &sampleQuadKernelAvx2<Target::Cube, Addr::Edge, Addr::Edge> &&
         c.stage[1].fn == &sampleQuadKernelAvx2<Target::OneD, Addr::Edge, Addr::Edge>)
-        c.cascade = &cascadeTwo<Target::Cube, Addr::Edge, Addr::Edge, Target::OneD, Addr::Edge,
-                                Addr::Edge>;
+        c.cascade = texCur ? &cascadeTwo<Target::Cube, Addr::Edge, Addr::Edge, Target::OneD,
+                                         Addr::Edge, Addr::Edge, true>
+                           : &cascadeTwo<Target::Cube, Addr::Edge, Addr::Edge, Target::OneD,
+                                         Addr::Edge, Addr::Edge, false>;
 }
 
 bool sameFootprint(const QuadSampler& a, const QuadSampler& b) {

@@ -38,6 +38,9 @@ struct QuadFootprint {
     uint64_t fetches;
     alignas(16) int32_t i00[2][4], i01[2][4], i10[2][4], i11[2][4];
     alignas(16) int32_t wx[2][4], wy[2][4];
+    // Per level (AVX2 LINEAR kernels only): every pixel's second x tap is the texel after
+    // its first (i01 = i00 + 1, i11 = i10 + 1), so each row pair is one 8-byte load.
+    bool adjacent[2] = {false, false};
 };
 // Samples one stage for the four pixels of a quad from its coordinate set `in` (s, t, r,
 // q per pixel, before any divide) into `out` (pixel p in bytes 4p..4p+3, the layout of
