@@ -91,12 +91,13 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     // The observer hook lives in the reference raster loop, which gets the reference setup.
     const bool fastPath = options.path == Path::Fast && !dc.fragmentObserver;
     auto processRange = [&](size_t b, size_t e) {
+        if (fastPath) {
+            processVerticesFast(dc, worldViewProj, worldView, normalMatrix, vertices, b, e,
+                                processed.data());
+            return;
+        }
         for (size_t i = b; i < e; ++i)
-            if (fastPath)
-                processVertexInto(dc, worldViewProj, worldView, normalMatrix, vertices[i],
-                                  processed[i]);
-            else
-                processed[i] = processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
+            processed[i] = processVertex(dc, worldViewProj, worldView, normalMatrix, vertices[i]);
     };
     auto processedAt = [&](uint32_t i) -> const ProcessedVertex& { return processed[i]; };
     auto setupRange = [&](uint32_t b, uint32_t e, std::vector<SetupTriangle>& out,

@@ -176,6 +176,15 @@ ProcessedVertex processVertex(const DrawContext& dc, const glm::mat4& worldViewP
 void processVertexInto(const DrawContext& dc, const glm::mat4& worldViewProj,
                        const glm::mat4& worldView, const glm::mat3& normalMatrix,
                        const Vertex& v, ProcessedVertex& p);
+// processVertexInto for vertices [begin, end) of `in` into the same slots of `out`: eight
+// vertices per SIMD iteration (AVX2 when the CPU has it, else SSE2) for untransformed
+// vertices without texture coordinates, each lane the scalar operations in order, so the
+// same values in every field (tests/rasterizer/test_setup_simd.cpp); processVertexInto
+// for the rest.
+void processVerticesFast(const DrawContext& dc, const glm::mat4& worldViewProj,
+                         const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                         std::span<const Vertex> in, size_t begin, size_t end,
+                         ProcessedVertex* out);
 // The programmable pipeline (programmable.cpp) reuses clipping and setup: a context for a
 // target of width×height whose `varyingFloats` attributes (from attr[kColorAttrs]) are all
 // interpolated perspective-correctly, and the window position, snapped position and

@@ -27,37 +27,14 @@
 
 #include "pipeline.h"
 #include "raster_span_avx2.h"
+#include "simd_lanes.h"
 
-// The four-lane vectors below are GCC/Clang vector extensions: lane-wise IEEE operations
-// lowered to one AVX register in the AVX2 instantiation and to two SSE2 registers in the
-// other. Every function taking or returning one is always inlined, so the ABI of 32-byte
-// vector arguments without AVX (GCC's -Wpsabi note) never comes into play.
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace rg::raster::detail {
 
 namespace {
 
-using F64x4 = double __attribute__((vector_size(32)));
-using I64x4 = int64_t __attribute__((vector_size(32)));
-using F32x4 = float __attribute__((vector_size(16)));
-using I32x4 = int32_t __attribute__((vector_size(16)));
-
-// 2^52 + 2^51: for an integer |v| < 2^51, v + kMagic lies in [2^52, 2^53), where a double's
-// low mantissa bits are the integer itself, so the conversions are one add and one sub.
-constexpr double kMagic = 6755399441055744.0;
-
-#define RG_LANES [[gnu::always_inline]] inline
-
-RG_LANES F64x4 splat(double v) { return F64x4{v, v, v, v}; }
-RG_LANES F64x4 toDouble(I64x4 v) { return (F64x4)(v + (I64x4)splat(kMagic)) - kMagic; }
-RG_LANES I64x4 toInt64(F64x4 v) { return (I64x4)(v + kMagic) - (I64x4)splat(kMagic); }
-RG_LANES F64x4 floorLanes(F64x4 v) {  // |v| < 2^51
-    const F64x4 r = (v + kMagic) - kMagic;  // round to nearest
-    return r > v ? r - 1.0 : r;
-}
-RG_LANES F64x4 minLanes(F64x4 a, F64x4 b) { return a < b ? a : b; }
-RG_LANES F64x4 maxLanes(F64x4 a, F64x4 b) { return a > b ? a : b; }
+using namespace lanes;
 
 // The per-triangle results of four triangles' geometry, one triangle per lane.
 struct Geometry4 {

@@ -5,6 +5,9 @@
 #include <glm/mat3x3.hpp>
 
 #include "pipeline.h"
+#include "raster_span_avx2.h"
+#include "simd_lanes.h"
+
 
 namespace rg::raster::detail {
 
@@ -177,6 +180,120 @@ void processVertexInto(const DrawContext& dc, const glm::mat4& worldViewProj,
         glm::vec4 tc = dc.tu->processVertexTexCoord(set, eye, v.tex[set]);
         for (int c = 0; c < 4; ++c) p.attr[kColorAttrs + 4 * k + c] = tc[c];
     }
+}
+
+// ---- the fast path's vertex pass ------------------------------------------------------
+namespace {
+
+using namespace lanes;
+
+// processVertexInto's untransformed branch (numTexSets = 0) for v[0..7], lane k the
+// scalar operations of vertex k in the same order: GLM's column sums
+// (m0·x + m1·y) + (m2·z + m3·1), the divisions of project, snapToFixed in double, the
+// outcode dot products summed left to right. No FMA (-ffp-contract=off; the AVX2 target
+// does not include FMA).
+RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex* v,
+                        ProcessedVertex* out) {
+    F32x8 x, y, z;
+    for (int k = 0; k < 8; ++k) {
+        x[k] = v[k].position.x;
+        y[k] = v[k].position.y;
+        z[k] = v[k].position.z;
+    }
+    I32x8 valid = finiteLanes(x) & finiteLanes(y) & finiteLanes(z);
+    F32x8 c[4];
+    for (int r = 0; r < 4; ++r)
+        c[r] = (splat8(m[0][r]) * x + splat8(m[1][r]) * y) +
+               (splat8(m[2][r]) * z + splat8(m[3][r]) * 1.0f);
+    valid &= finiteLanes(c[0]) & finiteLanes(c[1]) & finiteLanes(c[2]) & finiteLanes(c[3]);
+
+    // project(): the D3D7 viewport transform, then 1/w and the snapped position.
+    const F32x8 nx = c[0] / c[3], ny = c[1] / c[3], nz = c[2] / c[3];
+    const F32x8 wx = splat8(float(dc.vp.x)) + (nx + 1.0f) * (0.5f * float(dc.vp.width));
+    const F32x8 wy = splat8(float(dc.vp.y)) + (1.0f - ny) * (0.5f * float(dc.vp.height));
+    const F32x8 wz = splat8(dc.vp.minZ) + nz * (dc.vp.maxZ - dc.vp.minZ);
+    const F32x8 invW = 1.0f / c[3];
+    const double scale = double(int64_t{1} << dc.subpixelBits);
+    const double limit = double(kGuardBandPixels + 1) * scale;
+    auto snap = [&](F32x4 f) {  // snapToFixed
+        F64x4 d = __builtin_convertvector(f, F64x4) * scale + 0.5;
+        d = d > -limit ? d : splat(-limit);  // also NaN
+        d = d > limit ? splat(limit) : d;
+        return toInt64(floorLanes(d));
+    };
+    const I64x4 sx[2] = {snap(lowHalf(wx)), snap(highHalf(wx))};
+    const I64x4 sy[2] = {snap(lowHalf(wy)), snap(highHalf(wy))};
+
+    // outcodeOf(): bit p where !(dot(plane p, clip) >= 0).
+    I32x8 outcode = {};
+    for (int p = 0; p < 6; ++p) {
+        const glm::vec4& P = dc.planes[p];
+        const F32x8 d = ((splat8(P.x) * c[0] + splat8(P.y) * c[1]) + splat8(P.z) * c[2]) +
+                        splat8(P.w) * c[3];
+        outcode |= ~(I32x8)(d >= 0.0f) & (1 << p);
+    }
+    outcode &= valid;
+    const I32x8 unclipped = valid & (outcode == 0) & finiteLanes(wx) & finiteLanes(wy) &
+                            finiteLanes(wz) & finiteLanes(invW);
+
+    for (int k = 0; k < 8; ++k) {
+        ProcessedVertex& p = out[k];
+        p.clip = glm::vec4(c[0][k], c[1][k], c[2][k], c[3][k]);
+        p.valid = valid[k] != 0;
+        if (p.valid) {  // an invalid vertex keeps the zeros processVertexInto gives it
+            p.wx = wx[k];
+            p.wy = wy[k];
+            p.wz = wz[k];
+            p.invW = invW[k];
+            p.sx = sx[k >> 2][k & 3];
+            p.sy = sy[k >> 2][k & 3];
+        } else {
+            p.wx = p.wy = p.wz = p.invW = 0.0f;
+            p.sx = p.sy = 0;
+        }
+        p.outcode = uint32_t(outcode[k]);
+        p.unclipped = unclipped[k] != 0;
+        const Rgba8 d = v[k].diffuse, s = v[k].specular;
+        p.attr[0] = d.r; p.attr[1] = d.g; p.attr[2] = d.b; p.attr[3] = d.a;
+        p.attr[4] = s.r; p.attr[5] = s.g; p.attr[6] = s.b; p.attr[7] = s.a;
+    }
+}
+
+template <bool kAvx2>
+RG_LANES void verticesBody(const DrawContext& dc, const glm::mat4& worldViewProj,
+                           const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                           std::span<const Vertex> in, size_t begin, size_t end,
+                           ProcessedVertex* out) {
+    size_t i = begin;
+    if (dc.space == VertexSpace::Untransformed && dc.numTexSets == 0)
+        for (; i + 8 <= end; i += 8) vertices8(dc, worldViewProj, &in[i], &out[i]);
+    for (; i < end; ++i) processVertexInto(dc, worldViewProj, worldView, normalMatrix, in[i], out[i]);
+}
+
+__attribute__((target("avx2"))) void verticesAvx2(
+    const DrawContext& dc, const glm::mat4& worldViewProj, const glm::mat4& worldView,
+    const glm::mat3& normalMatrix, std::span<const Vertex> in, size_t begin, size_t end,
+    ProcessedVertex* out) {
+    verticesBody<true>(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
+}
+
+void verticesSse2(const DrawContext& dc, const glm::mat4& worldViewProj,
+                  const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                  std::span<const Vertex> in, size_t begin, size_t end, ProcessedVertex* out) {
+    verticesBody<false>(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
+}
+
+}  // namespace
+
+void processVerticesFast(const DrawContext& dc, const glm::mat4& worldViewProj,
+                         const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                         std::span<const Vertex> in, size_t begin, size_t end,
+                         ProcessedVertex* out) {
+    static const bool avx2 = haveAvx2();
+    if (avx2)
+        verticesAvx2(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
+    else
+        verticesSse2(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
 }
 
 void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,

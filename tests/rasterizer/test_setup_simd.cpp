@@ -13,6 +13,8 @@
 // with RETROGLASS_SETUP_SEED=<seed> to replay it.
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -260,6 +262,68 @@ TEST(SetupSimd, CullModesAndZeroAreaAreCountedLikeTheReference) {
             EXPECT_EQ(t.minX, 2);
             EXPECT_EQ(t.minY, 2);
             EXPECT_EQ(t.A[0] * t.B[1] - t.A[1] * t.B[0] > 0, true);
+        }
+    }
+}
+
+// The eight-vertex pass (processVerticesFast) against processVertexInto, field by field:
+// random perspective and orthographic transforms and viewports, points behind the eye,
+// near the w = 0 plane, far outside the guard band, and NaN/Inf positions.
+TEST(SetupSimd, EightVertexLanesEqualTheScalarVertexStage) {
+    tex::TextureUnits tu;
+    Rng r(11);
+    for (int round = 0; round < 400; ++round) {
+        const int W = int(r.i(8, 700)), H = int(r.i(8, 500));
+        Framebuffer fb(W, H, DepthFormat::None);
+        PipelineState st;
+        const Viewport vp{int32_t(r.i(0, W / 2)), int32_t(r.i(0, H / 2)), int32_t(r.i(1, W / 2)),
+                          int32_t(r.i(1, H / 2)), r.f(0.0f, 0.5f), r.f(0.5f, 1.0f)};
+        const int s = r.p(0.5) ? 4 : 8;
+        const DrawContext dc = makeDrawContext(st, fb, tu, Path::Fast,
+                                               VertexSpace::Untransformed, vp, Rect{}, s);
+        glm::mat4 m = r.p(0.5) ? glm::perspectiveLH_ZO(r.f(0.3f, 2.0f), r.f(0.5f, 2.0f),
+                                                       r.f(0.01f, 1.0f), r.f(2.0f, 100.0f))
+                               : glm::orthoLH_ZO(0.0f, float(W), float(H), 0.0f, 0.0f, 1.0f);
+        for (int c = 0; c < 4; ++c)
+            for (int k = 0; k < 4; ++k)
+                if (r.p(0.1)) m[c][k] += r.f(-1.0f, 1.0f);
+        const int n = int(r.i(0, 70));
+        std::vector<Vertex> verts(size_t(n) + 3);
+        for (Vertex& v : verts) {
+            const float span = r.p(0.2) ? 1e6f : r.p(0.5) ? 4.0f : float(W);
+            v.position = {r.f(-span, span), r.f(-span, span), r.f(-span, span), 1.0f};
+            if (r.p(0.1)) v.position.z = 0.0f;
+            const float odd = r.f(0.0f, 1.0f);
+            if (odd < 0.03f) v.position.x = std::numeric_limits<float>::quiet_NaN();
+            else if (odd < 0.06f) v.position.y = std::numeric_limits<float>::infinity();
+            else if (odd < 0.08f) v.position.z = 3e38f;
+            v.diffuse = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
+                              uint8_t(r.i(0, 255))};
+            v.specular = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
+                               uint8_t(r.i(0, 255))};
+        }
+        const glm::mat4 wv(1.0f);
+        const glm::mat3 nm(1.0f);
+        std::vector<ProcessedVertex> ref(verts.size()), fast(verts.size());
+        for (size_t k = 0; k < verts.size(); ++k) processVertexInto(dc, m, wv, nm, verts[k], ref[k]);
+        const size_t begin = size_t(r.i(0, 3));
+        for (size_t k = 0; k < begin; ++k) fast[k] = ref[k];
+        processVerticesFast(dc, m, wv, nm, verts, begin, verts.size(), fast.data());
+        for (size_t k = 0; k < verts.size(); ++k) {
+            const ProcessedVertex &a = ref[k], &b = fast[k];
+            const std::string where = "round " + std::to_string(round) + ", vertex " +
+                                      std::to_string(k);
+            EXPECT_TRUE(sameBits(a.clip, b.clip)) << where;
+            EXPECT_TRUE(sameBits(a.wx, b.wx) && sameBits(a.wy, b.wy) && sameBits(a.wz, b.wz) &&
+                        sameBits(a.invW, b.invW))
+                << where;
+            EXPECT_EQ(a.sx, b.sx) << where;
+            EXPECT_EQ(a.sy, b.sy) << where;
+            EXPECT_EQ(a.outcode, b.outcode) << where;
+            EXPECT_EQ(a.valid, b.valid) << where;
+            EXPECT_EQ(a.unclipped, b.unclipped) << where;
+            for (int c = 0; c < kColorAttrs; ++c) EXPECT_TRUE(sameBits(a.attr[c], b.attr[c])) << where;
+            if (::testing::Test::HasFailure()) return;
         }
     }
 }
