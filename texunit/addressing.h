@@ -125,7 +125,10 @@ inline LevelParams levelParams(int levels, const SamplerState& s) {
     return {base, q, c, s.magFilter, s.minFilter, s.mipFilter};
 }
 // chooseLevels (sampler.h) inline: GL 1.2 §3.8.8.
-inline LevelChoice chooseLevelsInline(const LevelParams& p, int32_t lambda) {
+// Always inlined: the per-quad kernels keep the choice in registers (called out of line,
+// GCC returned it through memory and the kernel's wider reload of it missed store
+// forwarding: 9% of tex_cube_trilinear's sampler).
+[[gnu::always_inline]] inline LevelChoice chooseLevelsInline(const LevelParams& p, int32_t lambda) {
     const int base = p.base, q = p.q;
     if (lambda <= p.c) return {p.mag, base, base, 0, false};
     switch (p.mip) {
