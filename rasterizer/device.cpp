@@ -34,6 +34,19 @@ void checkEnum(E value, E last, const char* name) {
                            " is out of range");
 }
 
+// The highest vertex number triangles [begin, end) of a draw use (begin < end).
+uint32_t lastVertexUsed(Primitive primitive, uint32_t begin, uint32_t end,
+                        std::span<const uint32_t> indices) {
+    // Positions in the vertex (or index) stream: lists 3i..3i+2, strips i..i+2, fans
+    // i+1..i+2 and 0.
+    const uint32_t first = primitive == Primitive::TriangleList ? 3 * begin : begin;
+    const uint32_t last = primitive == Primitive::TriangleList ? 3 * end - 1 : end + 1;
+    if (indices.empty()) return last;
+    uint32_t hi = primitive == Primitive::TriangleFan ? indices[0] : 0;
+    for (uint32_t k = first; k <= last; ++k) hi = std::max(hi, indices[k]);
+    return hi;
+}
+
 }  // namespace
 
 void Device::Impl::validateState() const {
@@ -142,15 +155,25 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         std::vector<RasterCounters> tileCounters(size_t(tilesX) * tilesY);
         const bool multi = arena->max_concurrency() > 1;
         if (arena->max_concurrency() == 1) {
-            // One thread: set up and rasterize chunk by chunk, no binning (raster_tiles.h).
-            processRange(0, vertices.size());
+            // One thread: set up and rasterize chunk by chunk, no binning (raster_tiles.h),
+            // each chunk's vertices transformed just before it (up to the highest vertex it
+            // uses), so that setup reads them from cache rather than from a whole draw's
+            // vertex array (216 bytes a vertex) written long before. Meshes whose indices
+            // grow along the list (most) interleave; others transform everything at the
+            // first chunk, as before.
+            size_t transformed = 0;
             if (scratchChunks.empty()) scratchChunks.resize(1);
             TriangleChunk& ch = scratchChunks[0];
             for (uint32_t b = 0; b < triangles; b += kChunk) {
+                const uint32_t e = std::min(triangles, b + kChunk);
+                const size_t needed = size_t(lastVertexUsed(primitive, b, e, indices)) + 1;
+                if (needed > transformed) {
+                    processRange(transformed, needed);
+                    transformed = needed;
+                }
                 ch.tris.clear();
                 ch.texPlanes.clear();
-                setupRange(b, std::min(triangles, b + kChunk), ch.tris, ch.texPlanes, gc,
-                           processedAt);
+                setupRange(b, e, ch.tris, ch.texPlanes, gc, processedAt);
                 rasterizeChunk(dc, ch, rc);
             }
         } else {

@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 
 #include "pipeline.h"
 #include "raster_span_avx2.h"
@@ -209,8 +210,8 @@ __attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const flo
 // stores, measured.)
 template <bool kAvx2>
 RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
-                           const ProcessedVertex* const (&tri)[3], Rgba8 flatDiffuse,
-                           Rgba8 flatSpecular, std::vector<SetupTriangle>& out,
+                           const ProcessedVertex* const (&tri)[3], const Vertex& provoking,
+                           std::vector<SetupTriangle>& out,
                            std::vector<Plane>& texPool) {
     SetupTriangle& t = out.emplace_back(SetupTriangle::NoInit{});
     for (int e = 0; e < 3; ++e) {
@@ -239,8 +240,13 @@ RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
     const PlaneGeometry pg{g.dx1[k], g.dy1[k], g.dx2[k], g.dy2[k], g.invArea[k]};
     const double w0 = v0->invW, w1 = v1->invW, w2 = v2->invW;
     const int colors = dc.gouraud ? (dc.needSpecular ? 8 : 4) : 0;
-    for (int a = colors; a < kColorAttrs; ++a)
-        t.colorC[a] = t.colorDx[a] = t.colorDy[a] = 0.0f;
+    // Zeros where no plane is computed: channels 4..7 and, flat, 0..3 (16-byte stores; a
+    // loop of run-time length compiled to a slow generic clear, measured).
+    const F32x4 zero = {};
+    if (colors < 8)
+        for (float* z : {&t.colorC[4], &t.colorDx[4], &t.colorDy[4]}) std::memcpy(z, &zero, 16);
+    if (colors < 4)
+        for (float* z : {&t.colorC[0], &t.colorDx[0], &t.colorDy[0]}) std::memcpy(z, &zero, 16);
     for (int a = 0; a < colors; a += 4) {
         if constexpr (kAvx2)
             colorPlanes4Avx2(&v0->attr[a], &v1->attr[a], &v2->attr[a], w0, w1, w2,
@@ -270,8 +276,9 @@ RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
             *p = makePlane(v0->attr[a] * w0, v1->attr[a] * w1, v2->attr[a] * w2, pg.dx1,
                            pg.dy1, pg.dx2, pg.dy2, pg.invArea);
     }
-    t.flatDiffuse = flatDiffuse;
-    t.flatSpecular = flatSpecular;
+    // The provoking vertex's bytes matter only for flat shading.
+    t.flatDiffuse = dc.gouraud ? Rgba8{} : provoking.diffuse;
+    t.flatSpecular = dc.gouraud ? Rgba8{} : provoking.specular;
 }
 
 template <bool kAvx2>
@@ -302,7 +309,7 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
         // ---- primitive assembly of up to four triangles ----------------------------------
         const int n = int(std::min<uint32_t>(4, end - i));
         const ProcessedVertex* v[4][3];
-        Rgba8 flatD[4], flatS[4];
+        uint32_t provoking[4];
         unsigned unclipped = 0;  // bit k: triangle k takes the SIMD setup
         for (int k = 0; k < 4; ++k) {
             if (k >= n) {  // a spare lane computes triangle 0 again, unused
@@ -313,9 +320,7 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
             const uint32_t a = indexed ? indices[tv[0]] : tv[0];
             const uint32_t b = indexed ? indices[tv[1]] : tv[1];
             const uint32_t c = indexed ? indices[tv[2]] : tv[2];
-            // The provoking vertex's bytes matter only for flat shading.
-            flatD[k] = dc.gouraud ? Rgba8{} : vertices[a].diffuse;
-            flatS[k] = dc.gouraud ? Rgba8{} : vertices[a].specular;
+            provoking[k] = a;
             v[k][0] = &processed[a];
             v[k][1] = &processed[b];
             v[k][2] = &processed[c];
@@ -330,14 +335,16 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
             if (unclipped & (1u << k)) {
                 ++gc.submitted;
                 if (g.keep[k]) {
-                    emitTriangle<kAvx2>(dc, g, k, v[k], flatD[k], flatS[k], out, texPool);
+                    emitTriangle<kAvx2>(dc, g, k, v[k], vertices[provoking[k]], out, texPool);
                     ++gc.drawn;
                 } else {
                     ++gc.culled;
                 }
             } else {
-                clipAndSetup(dc, *v[k][0], *v[k][1], *v[k][2], flatD[k], flatS[k], out,
-                             texPool, gc);
+                const Rgba8 flatD = dc.gouraud ? Rgba8{} : vertices[provoking[k]].diffuse;
+                const Rgba8 flatS = dc.gouraud ? Rgba8{} : vertices[provoking[k]].specular;
+                clipAndSetup(dc, *v[k][0], *v[k][1], *v[k][2], flatD, flatS, out, texPool,
+                             gc);
             }
         }
     }
