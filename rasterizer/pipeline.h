@@ -135,12 +135,14 @@ struct SetupTriangle {
     std::array<int64_t, 3> A, B, C;
     int minX, minY, maxX, maxY;  // inclusive pixel box, ∩ clip rect
     float x0, y0;                // snapped first vertex, pixels
-    double zc, zdx, zdy;         // window z plane, double precision
     Plane invW;                  // 1/w
     // Colour planes (a/w when perspective-correct, else a), diffuse RGBA then specular
     // RGBA, stored as three arrays so that the fast path evaluates 4 channels per SSE op
-    // with exactly the scalar operations of Plane::at.
+    // with exactly the scalar operations of Plane::at. In this order, the fields a
+    // Gouraud quad without depth or specular reads (edges, box, x0, y0, 1/w, diffuse
+    // planes) lie in the first three of the four cache lines.
     alignas(16) std::array<float, kColorAttrs> colorC, colorDx, colorDy;
+    double zc, zdx, zdy;         // window z plane, double precision
     Rgba8 flatDiffuse, flatSpecular;
     uint32_t texPlanes;          // first of 4·numTexSets planes in the draw's texture pool
     Plane color(int a) const { return Plane{colorC[a], colorDx[a], colorDy[a]}; }

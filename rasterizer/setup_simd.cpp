@@ -54,14 +54,17 @@ struct Geometry4 {
 RG_LANES void setupGeometry4(const DrawContext& dc, const ProcessedVertex* const (&v)[4][3],
                              Geometry4& g) {
     const int s = dc.subpixelBits;
-    F64x4 X[3], Y[3], Z[3], W[3];
+    const bool needInvW = (dc.gouraud && dc.perspectiveColor) || dc.numTexSets > 0;
+    F64x4 X[3], Y[3], Z[3] = {}, W[3] = {};  // z and 1/w only when a plane needs them
     for (int j = 0; j < 3; ++j) {
         X[j] = toDouble(I64x4{v[0][j]->sx, v[1][j]->sx, v[2][j]->sx, v[3][j]->sx});
         Y[j] = toDouble(I64x4{v[0][j]->sy, v[1][j]->sy, v[2][j]->sy, v[3][j]->sy});
-        Z[j] = __builtin_convertvector(F32x4{v[0][j]->wz, v[1][j]->wz, v[2][j]->wz, v[3][j]->wz},
-                                       F64x4);
-        W[j] = __builtin_convertvector(
-            F32x4{v[0][j]->invW, v[1][j]->invW, v[2][j]->invW, v[3][j]->invW}, F64x4);
+        if (dc.depthOn)
+            Z[j] = __builtin_convertvector(
+                F32x4{v[0][j]->wz, v[1][j]->wz, v[2][j]->wz, v[3][j]->wz}, F64x4);
+        if (needInvW)
+            W[j] = __builtin_convertvector(
+                F32x4{v[0][j]->invW, v[1][j]->invW, v[2][j]->invW, v[3][j]->invW}, F64x4);
     }
 
     // ---- orientation and culling -------------------------------------------------------
@@ -125,7 +128,6 @@ RG_LANES void setupGeometry4(const DrawContext& dc, const ProcessedVertex* const
         g.zdx = (da1 * g.dy2 - da2 * g.dy1) * g.invArea;
         g.zdy = (da2 * g.dx1 - da1 * g.dx2) * g.invArea;
     }
-    const bool needInvW = (dc.gouraud && dc.perspectiveColor) || dc.numTexSets > 0;
     if (needInvW) {
         const F64x4 da1 = W[1] - W[0], da2 = W[2] - W[0];
         g.wC = __builtin_convertvector(W[0], F32x4);
