@@ -8,6 +8,7 @@
 #include <immintrin.h>
 
 #include <cstdlib>
+#include <cstring>
 
 namespace rg::raster::detail {
 
@@ -87,13 +88,17 @@ RG_AVX2 __m256i toPixels(__m256i r, __m256i g, __m256i b, __m256i a) {
 }
 
 template <bool kDepth, int kBlendMode>
+__attribute__((target("avx2"), always_inline)) inline void pairOutputAvx2(
+    const DrawContext& dc, const SetupTriangle& t, int qx, int qy, unsigned cov, __m256i src,
+    RasterCounters& rc);
+
+template <bool kDepth, int kBlendMode>
 __attribute__((target("avx2"), always_inline)) inline void pairAvx2(const DrawContext& dc, const SetupTriangle& t,
                                               const __m256 (&c)[4], const __m256 (&dx)[4],
                                               const __m256 (&dyfy)[4], __m256 wc, __m256 wdx,
                                               __m256 wdyfy, bool perspective, bool flatW,
                                               __m256 flatR, int qx, int qy, unsigned cov,
                                               RasterCounters& rc) {
-    const PipelineState& st = dc.st;
     // fx of the eight pixels: quad qx in the low half, quad qx + 2 in the high half.
     const __m256 fx = _mm256_sub_ps(
         _mm256_setr_ps(float(qx) + 0.5f, float(qx + 1) + 0.5f, float(qx) + 0.5f,
@@ -116,7 +121,17 @@ __attribute__((target("avx2"), always_inline)) inline void pairAvx2(const DrawCo
         ch[a] = channelToInt(v);
     }
     const __m256i src = toPixels(ch[0], ch[1], ch[2], ch[3]);  // quad 0 | quad 1, pixel-major
+    pairOutputAvx2<kDepth, kBlendMode>(dc, t, qx, qy, cov, src, rc);
+}
 
+// The second half of pairAvx2 (quadOutputSse for two quads): alpha and depth tests, blend,
+// write mask and store of the source pixels `src` (quad qx | quad qx + 2, pixel-major,
+// specular already added); `cov`: bits 0..3 quad qx, 4..7 quad qx + 2.
+template <bool kDepth, int kBlendMode>
+__attribute__((target("avx2"), always_inline)) inline void pairOutputAvx2(
+    const DrawContext& dc, const SetupTriangle& t, int qx, int qy, unsigned cov, __m256i src,
+    RasterCounters& rc) {
+    const PipelineState& st = dc.st;
     Framebuffer& fb = *dc.fb;
     const size_t width = size_t(fb.width());
     const size_t row0 = size_t(qy) * width + size_t(qx), row1 = row0 + width;
@@ -212,7 +227,126 @@ __attribute__((target("avx2"), noinline)) void runAvx2(const DrawContext& dc,
         processQuadSse<kDepth, kBlendMode>(dc, t, planes, row, qx0 + 2 * k, qy, coverage[k], rc);
 }
 
+// Four colour planes of two quads (sse::colors lane for lane).
+RG_AVX2 __m256i colors8(const __m256* c, const __m256* dx, const __m256* dyfy, __m256 fx,
+                        bool perspective, __m256 r) {
+    __m256i ch[4];
+    for (int a = 0; a < 4; ++a) {
+        __m256 v = _mm256_add_ps(_mm256_add_ps(c[a], _mm256_mul_ps(dx[a], fx)), dyfy[a]);
+        if (perspective) v = _mm256_mul_ps(v, r);
+        ch[a] = channelToInt(v);
+    }
+    return toPixels(ch[0], ch[1], ch[2], ch[3]);
+}
+
+// Quads with texture stages, two per register: processTexturedQuadSse
+// (fragment_quad_textured.h) lane for lane — fx, 1/w, the colours and the texture
+// coordinates of both quads in 8-lane registers, each 128-bit half the SSE2 kernel's
+// operations on its quad (the 4×4 transpose into per-pixel (s, t, r, q) works within
+// halves); then shadeQuad per covered quad (a quad without coverage is not shaded, as in
+// the scalar loop, so the fetch counts agree) and the fragment operations of both quads
+// at once (pairOutputAvx2). `q`: two FragmentQuad scratch values of the triangle.
+template <bool kDepth, int kBlendMode>
+__attribute__((target("avx2"), noinline)) void texturedRunImpl(
+    const DrawContext& dc, const SetupTriangle& t, const sse::Planes& planes,
+    const sse::RowTerms& row, const sse::TexPlanes& tplanes, const sse::TexRowTerms& trow,
+    int qy, int qx0, int count, const uint8_t* coverage, tex::FragmentQuad* q,
+    RasterCounters& rc) {
+    const PipelineState& st = dc.st;
+    __m256 c[8], dx[8], dyfy[8];
+    for (int a = 0; a < planes.count; ++a) {
+        c[a] = both(planes.c[a]);
+        dx[a] = both(planes.dx[a]);
+        dyfy[a] = both(row.dyfy[a]);
+    }
+    constexpr int kMaxT = sse::TexPlanes::kMax;
+    __m256 tc[kMaxT], tdx[kMaxT], tdyfy[kMaxT];
+    for (int k = 0; k < tplanes.count; ++k) {
+        tc[k] = both(tplanes.c[k]);
+        tdx[k] = both(tplanes.dx[k]);
+        tdyfy[k] = both(trow.dyfy[k]);
+    }
+    const __m256 wc = _mm256_set1_ps(t.invW.c), wdx = _mm256_set1_ps(t.invW.dx),
+                 wdyfy = both(row.wdyfy);
+    const bool perspective = dc.perspectiveColor && !planes.unitW;
+    __m256i flatDiffuse = _mm256_setzero_si256(), flatSpecular = _mm256_setzero_si256();
+    if (!dc.gouraud) {
+        uint32_t bits;
+        std::memcpy(&bits, &t.flatDiffuse, 4);
+        flatDiffuse = _mm256_set1_epi32(int(bits));
+        std::memcpy(&bits, &t.flatSpecular, 4);
+        flatSpecular = _mm256_set1_epi32(int(bits));
+    }
+    int k = 0;
+    for (; k + 1 < count; k += 2) {
+        const unsigned cov = unsigned(coverage[k]) | (unsigned(coverage[k + 1]) << 4);
+        if (!cov) continue;
+        const int qx = qx0 + 2 * k;
+        const __m256 fx = _mm256_sub_ps(
+            _mm256_setr_ps(float(qx) + 0.5f, float(qx + 1) + 0.5f, float(qx) + 0.5f,
+                           float(qx + 1) + 0.5f, float(qx + 2) + 0.5f, float(qx + 3) + 0.5f,
+                           float(qx + 2) + 0.5f, float(qx + 3) + 0.5f),
+            _mm256_set1_ps(t.x0));
+        const __m256 w = _mm256_add_ps(_mm256_add_ps(wc, _mm256_mul_ps(wdx, fx)), wdyfy);
+        const __m256 r = _mm256_div_ps(_mm256_set1_ps(1.0f), w);
+        __m256i diffuse = flatDiffuse, specular = flatSpecular;
+        if (dc.gouraud) {
+            diffuse = colors8(c, dx, dyfy, fx, perspective, r);
+            if (dc.needSpecular) specular = colors8(c + 4, dx + 4, dyfy + 4, fx, perspective, r);
+        }
+        for (int h = 0; h < 2; ++h) {
+            const unsigned qc = (cov >> (4 * h)) & 0xFu;
+            q[h].x = qx + 2 * h;
+            q[h].y = qy;
+            q[h].coverage = uint8_t(qc);
+        }
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(q[0].diffuse.data()), _mm256_castsi256_si128(diffuse));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(q[1].diffuse.data()), _mm256_extracti128_si256(diffuse, 1));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(q[0].specular.data()), _mm256_castsi256_si128(specular));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(q[1].specular.data()), _mm256_extracti128_si256(specular, 1));
+        for (int set = 0; set < dc.numTexSets; ++set) {
+            __m256 v[4];
+            for (int a = 0; a < 4; ++a) {
+                const int p = 4 * set + a;
+                v[a] = _mm256_mul_ps(
+                    _mm256_add_ps(_mm256_add_ps(tc[p], _mm256_mul_ps(tdx[p], fx)), tdyfy[p]), r);
+            }
+            // _MM_TRANSPOSE4_PS within each half.
+            const __m256 t0 = _mm256_unpacklo_ps(v[0], v[1]), t1 = _mm256_unpacklo_ps(v[2], v[3]);
+            const __m256 t2 = _mm256_unpackhi_ps(v[0], v[1]), t3 = _mm256_unpackhi_ps(v[2], v[3]);
+            const __m256 px[4] = {_mm256_shuffle_ps(t0, t1, 0x44), _mm256_shuffle_ps(t0, t1, 0xEE),
+                                  _mm256_shuffle_ps(t2, t3, 0x44), _mm256_shuffle_ps(t2, t3, 0xEE)};
+            const size_t dst = size_t(dc.texSets[size_t(set)]);
+            for (int i = 0; i < 4; ++i) {
+                _mm_storeu_ps(&q[0].texCoord[dst][size_t(i)][0], _mm256_castps256_ps128(px[i]));
+                _mm_storeu_ps(&q[1].texCoord[dst][size_t(i)][0], _mm256_extractf128_ps(px[i], 1));
+            }
+        }
+        alignas(16) std::array<Rgba8, 4> shaded[2];
+        for (int h = 0; h < 2; ++h)
+            if (q[h].coverage) dc.tu->shadeQuad(q[h], shaded[h], dc.path);
+        __m256i src = _mm256_set_m128i(
+            _mm_load_si128(reinterpret_cast<const __m128i*>(shaded[1].data())),
+            _mm_load_si128(reinterpret_cast<const __m128i*>(shaded[0].data())));
+        if (st.specularEnable)  // addSpecular: rgb saturate-add, alpha untouched
+            src = _mm256_adds_epu8(src, _mm256_and_si256(specular, _mm256_set1_epi32(0x00FFFFFF)));
+        pairOutputAvx2<kDepth, kBlendMode>(dc, t, qx, qy, cov, src, rc);
+    }
+    if (k < count && coverage[k])
+        processTexturedQuadSse<kDepth, kBlendMode>(dc, t, planes, row, tplanes, trow,
+                                                   qx0 + 2 * k, qy, coverage[k], q[0], rc);
+}
+
 }  // namespace
+
+template <bool kDepth, int kBlendMode>
+void texturedRunAvx2(const DrawContext& dc, const SetupTriangle& t, const sse::Planes& planes,
+                     const sse::RowTerms& row, const sse::TexPlanes& tplanes,
+                     const sse::TexRowTerms& trow, int qy, int qx0, int count,
+                     const uint8_t* coverage, tex::FragmentQuad* q, RasterCounters& rc) {
+    texturedRunImpl<kDepth, kBlendMode>(dc, t, planes, row, tplanes, trow, qy, qx0, count,
+                                        coverage, q, rc);
+}
 
 template <bool kDepth, int kBlendMode>
 void quadRunAvx2(const DrawContext& dc, const SetupTriangle& t, const sse::Planes& planes,
@@ -225,6 +359,20 @@ void quadRunAvx2(const DrawContext& dc, const SetupTriangle& t, const sse::Plane
     template void quadRunAvx2<D, B>(const DrawContext&, const SetupTriangle&,             \
                                     const sse::Planes&, const sse::RowTerms&, int, int, int, \
                                     const uint8_t*, RasterCounters&);
+RG_INSTANTIATE(false, kBlendNone)
+RG_INSTANTIATE(false, kBlendGeneric)
+RG_INSTANTIATE(false, kBlendSrcAlphaInvSrcAlpha)
+RG_INSTANTIATE(false, kBlendOneOne)
+RG_INSTANTIATE(true, kBlendNone)
+RG_INSTANTIATE(true, kBlendGeneric)
+RG_INSTANTIATE(true, kBlendSrcAlphaInvSrcAlpha)
+RG_INSTANTIATE(true, kBlendOneOne)
+#undef RG_INSTANTIATE
+#define RG_INSTANTIATE(D, B)                                                                 \
+    template void texturedRunAvx2<D, B>(                                                     \
+        const DrawContext&, const SetupTriangle&, const sse::Planes&, const sse::RowTerms&,  \
+        const sse::TexPlanes&, const sse::TexRowTerms&, int, int, int, const uint8_t*,       \
+        tex::FragmentQuad*, RasterCounters&);
 RG_INSTANTIATE(false, kBlendNone)
 RG_INSTANTIATE(false, kBlendGeneric)
 RG_INSTANTIATE(false, kBlendSrcAlphaInvSrcAlpha)

@@ -132,7 +132,8 @@ void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgb
 // then the quad kernel, without the per-row set-up of quadWalk. Pass-through only (the
 // texture stages keep their FragmentQuad scratch in quadWalk).
 template <bool kDepth, int kBlendMode>
-void singleQuad(const DrawContext& dc, const SetupTriangle& t, const Box& box, RasterCounters& rc) {
+[[gnu::always_inline]] inline void singleQuad(const DrawContext& dc, const SetupTriangle& t,
+                                              const Box& box, RasterCounters& rc) {
     constexpr bool kBlend = kBlendMode != kBlendNone;
     const int s = dc.subpixelBits;
     const int qx = box.x0 & ~1, qy = box.y0 & ~1;
@@ -222,8 +223,9 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
     const int fbW = dc.fb->width(), fbH = dc.fb->height();
     sse::Planes planes;
     sse::RowTerms row;
-    std::optional<tex::FragmentQuad> fragment;  // one per triangle for the texture stages
-    std::optional<sse::TexPlanes> tplanes;      // textured quads: their coordinate planes
+    // Per triangle for the texture stages: FragmentQuad scratch (two for the AVX2 runs).
+    std::optional<std::array<tex::FragmentQuad, 2>> fragment;
+    std::optional<sse::TexPlanes> tplanes;  // textured quads: their coordinate planes
     std::optional<sse::TexRowTerms> trow;
     if constexpr (!kPassThrough) {
         fragment.emplace();
@@ -232,7 +234,9 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
         planes.load(t, dc.gouraud ? (dc.needSpecular ? 8 : 4) : 0);  // 1/w: every quad
     }
     // The AVX2 runs cover Gouraud colour without the specular add (raster_span_avx2.h).
-    const bool useAvx2 = kPassThrough && dc.gouraud && !dc.st.specularEnable && haveAvx2();
+    // Textured runs: any colour state.
+    const bool useAvx2 =
+        (!kPassThrough || (dc.gouraud && !dc.st.specularEnable)) && haveAvx2();
     if constexpr (kPassThrough)
         if (dc.gouraud) planes.load(t, dc.st.specularEnable ? 8 : 4);
     auto quad = [&](int qx, int qy, unsigned coverage) {
@@ -241,11 +245,11 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
                 processQuadSse<kDepth, kBlendMode>(dc, t, planes, row, qx, qy, coverage, rc);
             else
                 processTexturedQuadSse<kDepth, kBlendMode>(dc, t, planes, row, *tplanes, *trow,
-                                                           qx, qy, coverage, *fragment, rc);
+                                                           qx, qy, coverage, (*fragment)[0], rc);
             return;
         }
         processQuad<true, kDepth, kBlend, kPassThrough>(dc, t, texPool, qx, qy, coverage, rc,
-                                                        kPassThrough ? nullptr : &*fragment);
+                                                        kPassThrough ? nullptr : &(*fragment)[0]);
     };
     auto startRow = [&](int qy) {
         if constexpr (kPassThrough) {
@@ -306,18 +310,20 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
             coverage |= unsigned(row1 && qx + 1 >= l1 && qx + 1 <= r1) << 3;
             return coverage;
         };
-        if constexpr (kPassThrough) {
-            // Runs of quads, two per AVX2 register, when every quad is inside the target.
-            if (useAvx2 && qy + 1 < fbH && (r | 1) < fbW) {
-                uint8_t cov[64];
-                for (int qx = l & ~1; qx <= r;) {
-                    int n = 0;
-                    const int first = qx;
-                    for (; n < 64 && qx <= r; ++n, qx += 2) cov[n] = uint8_t(coverageAt(qx));
+        // Runs of quads, two per AVX2 register, when every quad is inside the target.
+        if (useAvx2 && qy + 1 < fbH && (r | 1) < fbW) {
+            uint8_t cov[64];
+            for (int qx = l & ~1; qx <= r;) {
+                int n = 0;
+                const int first = qx;
+                for (; n < 64 && qx <= r; ++n, qx += 2) cov[n] = uint8_t(coverageAt(qx));
+                if constexpr (kPassThrough)
                     quadRunAvx2<kDepth, kBlendMode>(dc, t, planes, row, qy, first, n, cov, rc);
-                }
-                continue;
+                else
+                    texturedRunAvx2<kDepth, kBlendMode>(dc, t, planes, row, *tplanes, *trow, qy,
+                                                        first, n, cov, fragment->data(), rc);
             }
+            continue;
         }
         for (int qx = l & ~1; qx <= r; qx += 2) {
             const unsigned coverage = coverageAt(qx);
@@ -328,22 +334,54 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
 
 using QuadWalkFn = void (*)(const DrawContext&, const SetupTriangle&, const Plane*, const Box&,
                             RasterCounters&);
-using SingleQuadFn = void (*)(const DrawContext&, const SetupTriangle&, const Box&,
-                              RasterCounters&);
+// A run of one chunk's triangles: items [begin, end) of its tris, or with `tile` of its
+// bin list, each box clipped to the tile. Each triangle goes to the single-quad kernel
+// (inlined here, with its state as template arguments: a call per triangle and the
+// kernel's entry cost more than its work on meshes of tiny triangles, measured), the span
+// fill or quadWalk.
+using TriangleRunFn = void (*)(const DrawContext&, const TriangleChunk&, uint32_t begin,
+                               uint32_t end, const Box* tile, QuadWalkFn walk,
+                               RasterCounters&);
 
-// The single-quad kernel for the state, or null when the quads need texture stages.
-SingleQuadFn selectSingleQuad(const DrawContext& dc) {
-    if (!dc.passThrough) return nullptr;
+template <bool kSingleQuad, bool kDepth, int kBlendMode>
+void triangleRun(const DrawContext& dc, const TriangleChunk& chunk, uint32_t begin,
+                 uint32_t end, const Box* tile, QuadWalkFn walk, RasterCounters& rc) {
+    const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
+                              !dc.st.blend;
+    const SetupTriangle* tris = chunk.tris.data();
+    const uint32_t* items = chunk.binItems.data();
+    for (uint32_t k = begin; k < end; ++k) {
+        const SetupTriangle& t = tris[tile ? items[k] : k];
+        Box box{t.minX, t.minY, t.maxX, t.maxY};
+        if (tile) {
+            box = Box{std::max(box.x0, tile->x0), std::max(box.y0, tile->y0),
+                      std::min(box.x1, tile->x1), std::min(box.y1, tile->y1)};
+            if (box.x0 > box.x1 || box.y0 > box.y1) continue;
+        }
+        Rgba8 color;
+        if (kSingleQuad && inOneQuad(box))
+            singleQuad<kDepth, kBlendMode>(dc, t, box, rc);
+        else if (spanFillable && constantColor(dc, t, color))
+            spanFill(dc, t, box, color, rc);
+        else
+            walk(dc, t, chunk.texPlanes.data(), box, rc);
+    }
+}
+
+// The run for the state: the single-quad kernel for pass-through quads (the texture
+// stages keep their FragmentQuad scratch in quadWalk).
+TriangleRunFn selectTriangleRun(const DrawContext& dc) {
+    if (!dc.passThrough) return triangleRun<false, false, kBlendNone>;
     const PipelineState& st = dc.st;
-    auto pick = [&]<bool kDepth>() -> SingleQuadFn {
-        if (!st.blend) return singleQuad<kDepth, kBlendNone>;
+    auto pick = [&]<bool kDepth>() -> TriangleRunFn {
+        if (!st.blend) return triangleRun<true, kDepth, kBlendNone>;
         if (st.blendOp == BlendOp::Add && st.srcBlend == BlendFactor::SrcAlpha &&
             st.dstBlend == BlendFactor::InvSrcAlpha)
-            return singleQuad<kDepth, kBlendSrcAlphaInvSrcAlpha>;
+            return triangleRun<true, kDepth, kBlendSrcAlphaInvSrcAlpha>;
         if (st.blendOp == BlendOp::Add && st.srcBlend == BlendFactor::One &&
             st.dstBlend == BlendFactor::One)
-            return singleQuad<kDepth, kBlendOneOne>;
-        return singleQuad<kDepth, kBlendGeneric>;
+            return triangleRun<true, kDepth, kBlendOneOne>;
+        return triangleRun<true, kDepth, kBlendGeneric>;
     };
     return dc.depthOn ? pick.template operator()<true>() : pick.template operator()<false>();
 }
@@ -377,24 +415,9 @@ void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks,
     const Box tileBox{tx * kTileSize, ty * kTileSize, tx * kTileSize + kTileSize - 1,
                       ty * kTileSize + kTileSize - 1};
     const QuadWalkFn walk = selectQuadWalk(dc);
-    const SingleQuadFn single = selectSingleQuad(dc);
-    const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
-                              !dc.st.blend;
-    for (const TriangleChunk& chunk : chunks) {
-        for (uint32_t k = chunk.binStart[tile]; k < chunk.binStart[tile + 1]; ++k) {
-            const SetupTriangle& t = chunk.tris[chunk.binItems[k]];
-            Box box{std::max(t.minX, tileBox.x0), std::max(t.minY, tileBox.y0),
-                    std::min(t.maxX, tileBox.x1), std::min(t.maxY, tileBox.y1)};
-            if (box.x0 > box.x1 || box.y0 > box.y1) continue;
-            Rgba8 color;
-            if (single && inOneQuad(box))
-                single(dc, t, box, rc);
-            else if (spanFillable && constantColor(dc, t, color))
-                spanFill(dc, t, box, color, rc);
-            else
-                walk(dc, t, chunk.texPlanes.data(), box, rc);
-        }
-    }
+    const TriangleRunFn run = selectTriangleRun(dc);
+    for (const TriangleChunk& chunk : chunks)
+        run(dc, chunk, chunk.binStart[tile], chunk.binStart[tile + 1], &tileBox, walk, rc);
     out = rc;
 }
 
@@ -407,20 +430,8 @@ namespace rg::raster::detail {
 // even-aligned in both cases, so splitting a box at tile edges or not visits the same
 // quads with the same coverage, and submission order is kept: the same bytes.
 void rasterizeChunk(const DrawContext& dc, const TriangleChunk& chunk, RasterCounters& rc) {
-    const QuadWalkFn walk = selectQuadWalk(dc);
-    const SingleQuadFn single = selectSingleQuad(dc);
-    const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
-                              !dc.st.blend;
-    for (const SetupTriangle& t : chunk.tris) {
-        const Box box{t.minX, t.minY, t.maxX, t.maxY};
-        Rgba8 color;
-        if (single && inOneQuad(box))
-            single(dc, t, box, rc);
-        else if (spanFillable && constantColor(dc, t, color))
-            spanFill(dc, t, box, color, rc);
-        else
-            walk(dc, t, chunk.texPlanes.data(), box, rc);
-    }
+    selectTriangleRun(dc)(dc, chunk, 0, uint32_t(chunk.tris.size()), nullptr,
+                          selectQuadWalk(dc), rc);
 }
 
 }  // namespace rg::raster::detail
