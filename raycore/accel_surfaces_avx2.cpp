@@ -68,61 +68,65 @@ RG_AVX2 void resolveRows(const float* const in[8], const float* const r[8],
     //   Ray         ox oy oz dx | dy dz · ·            u v primID geomID (at byte 60)
     //   face normal x y z ·
     //   TriangleShading n0 n1 n2 uv0 uv1 uv2 part (four rows)
-    __m256 T, U, V, O[3], D[3], ids[2];
+    //
+    // The shading normal's square root and division come first in program order: a group is
+    // more instructions than the reorder buffer holds, so whatever follows them in the
+    // source is what can run while they are in flight.
+    static_assert(offsetof(RTCRayHit, ray.org_x) == 0 && offsetof(RTCRayHit, ray.dir_x) == 16 &&
+                  offsetof(RTCRayHit, ray.tfar) == 32 && offsetof(RTCRayHit, hit.u) == 60 &&
+                  offsetof(RTCRayHit, hit.v) == 64 && offsetof(RTCRayHit, hit.primID) == 68 &&
+                  offsetof(RTCRayHit, hit.geomID) == 72);
+    __m256 H[4], F[16];  // Hit rows (t u v ·) or Embree's (u v primID geomID); TriangleShading
+    for (int l = 0; l < 4; ++l) {
+        H[l] = kSource == Source::HitAndRay ? rows(in[l], in[l + 4]) : rows(in[l] + 15, in[l + 4] + 15);
+        for (int row = 0; row < 4; ++row) F[4 * row + l] = rows(ts[l] + 4 * row, ts[l + 4] + 4 * row);
+    }
+    transpose(H[0], H[1], H[2], H[3]);
+    for (int row = 0; row < 4; ++row)  // F[f] is float f of TriangleShading
+        transpose(F[4 * row], F[4 * row + 1], F[4 * row + 2], F[4 * row + 3]);
+    const int first = kSource == Source::HitAndRay ? 1 : 0;
+    const __m256 U = H[first], V = H[first + 1];
+    const __m256 b0 = _mm256_sub_ps(_mm256_sub_ps(one, U), V);
+    __m256 NS[3];
+    for (int c = 0; c < 3; ++c) NS[c] = add(add(mul(b0, F[c]), mul(U, F[3 + c])), mul(V, F[6 + c]));
+    const __m256 len = _mm256_sqrt_ps(dot(NS, NS));
+    const __m256 inv = _mm256_div_ps(one, len);
+
+    // The rest of the inputs.
+    __m256 T, O[3], D[3], ids[2];
     if constexpr (kSource == Source::HitAndRay) {
-        __m256 H[4], R0[4], R1[4];
+        __m256 R0[4], R1[4];
         for (int l = 0; l < 4; ++l) {
-            H[l] = rows(in[l], in[l + 4]);
             R0[l] = rows(r[l], r[l + 4]);
             R1[l] = rows(r[l] + 4, r[l + 4] + 4);
         }
-        transpose(H[0], H[1], H[2], H[3]);
         transpose(R0[0], R0[1], R0[2], R0[3]);
         transpose(R1[0], R1[1], R1[2], R1[3]);
-        T = H[0], U = H[1], V = H[2];
+        T = H[0];
         O[0] = R0[0], O[1] = R0[1], O[2] = R0[2];
         D[0] = R0[3], D[1] = R1[0], D[2] = R1[1];
     } else {
-        static_assert(offsetof(RTCRayHit, ray.org_x) == 0 && offsetof(RTCRayHit, ray.dir_x) == 16 &&
-                      offsetof(RTCRayHit, ray.tfar) == 32 && offsetof(RTCRayHit, hit.u) == 60 &&
-                      offsetof(RTCRayHit, hit.v) == 64 && offsetof(RTCRayHit, hit.primID) == 68 &&
-                      offsetof(RTCRayHit, hit.geomID) == 72);
-        __m256 A[4], B[4], C[4], E[4];
+        __m256 A[4], B[4], C[4];
         for (int l = 0; l < 4; ++l) {
             A[l] = rows(in[l], in[l + 4]);
             B[l] = rows(in[l] + 4, in[l + 4] + 4);
             C[l] = rows(in[l] + 8, in[l + 4] + 8);
-            E[l] = rows(in[l] + 15, in[l + 4] + 15);
         }
         transpose(A[0], A[1], A[2], A[3]);
         transpose(B[0], B[1], B[2], B[3]);
         transpose(C[0], C[1], C[2], C[3]);
-        transpose(E[0], E[1], E[2], E[3]);
-        T = C[0], U = E[0], V = E[1];
+        T = C[0];
         O[0] = A[0], O[1] = A[1], O[2] = A[2];
         D[0] = B[0], D[1] = B[1], D[2] = B[2];
-        ids[0] = E[3], ids[1] = E[2];  // geomID = object, primID = triangle
+        ids[0] = H[3], ids[1] = H[2];  // geomID = object, primID = triangle
     }
-    __m256 G[4], F[16];
-    for (int l = 0; l < 4; ++l) {
-        G[l] = rows(g[l], g[l + 4]);
-        for (int row = 0; row < 4; ++row) F[4 * row + l] = rows(ts[l] + 4 * row, ts[l + 4] + 4 * row);
-    }
+    __m256 G[4];
+    for (int l = 0; l < 4; ++l) G[l] = rows(g[l], g[l + 4]);
     transpose(G[0], G[1], G[2], G[3]);
-    for (int row = 0; row < 4; ++row)  // F[f] is float f of TriangleShading
-        transpose(F[4 * row], F[4 * row + 1], F[4 * row + 2], F[4 * row + 3]);
-
-    // surface(), eight lanes.
-    const __m256 b0 = _mm256_sub_ps(_mm256_sub_ps(one, U), V);
-    __m256 P[3], NS[3], UV[2];
-    for (int c = 0; c < 3; ++c) {
-        P[c] = add(O[c], mul(T, D[c]));
-        NS[c] = add(add(mul(b0, F[c]), mul(U, F[3 + c])), mul(V, F[6 + c]));
-    }
+    __m256 P[3], UV[2];
+    for (int c = 0; c < 3; ++c) P[c] = add(O[c], mul(T, D[c]));
     for (int c = 0; c < 2; ++c)
         UV[c] = add(add(mul(b0, F[9 + c]), mul(U, F[11 + c])), mul(V, F[13 + c]));
-    const __m256 len = _mm256_sqrt_ps(dot(NS, NS));
-    const __m256 inv = _mm256_div_ps(one, len);
     const __m256 positive = _mm256_cmp_ps(len, zero, _CMP_GT_OQ);  // false for NaN, as in surface()
     for (int c = 0; c < 3; ++c) NS[c] = _mm256_blendv_ps(G[c], mul(NS[c], inv), positive);
     const __m256 flip = _mm256_and_ps(_mm256_cmp_ps(dot(NS, G), zero, _CMP_LT_OQ), sign);
