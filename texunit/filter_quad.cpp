@@ -795,9 +795,13 @@ QuadSampler compileQuadSampler(const Texture& t, const SamplerState& s, bool pro
     q.baseSizeF[0] = float(q.baseSize[0]);
     q.baseSizeF[1] = float(q.baseSize[1]);
     q.levels = levelParams(t.levels(), s);
-    // Without mipmaps and with one filter both ways, every λ chooses the same (level
-    // base).
-    q.constantChoice = s.mipFilter == MipMode::None && s.magFilter == s.minFilter;
+    // With one filter both ways (then c = 0), every λ chooses the same {filter, base,
+    // base, 0, no blend} when there are no mipmaps, or when the chain cannot leave level
+    // base (q = base: one level, or base/max level pinning it). chooseLevelsInline: λ ≤ 0
+    // gives {mag, base}; λ > 0 with MipMode::None {min, base}; NEAREST d = base +
+    // ⌈λ + ½⌉ − 1 ≥ base, min(d, q) = base; LINEAR λ ≥ (q − base)·256 = 0, so {min, q = base}.
+    q.constantChoice = s.magFilter == s.minFilter &&
+                       (s.mipFilter == MipMode::None || q.levels.q == q.levels.base);
     q.choice = chooseLevelsInline(q.levels, 0);
     // biasAndClampLambda with its three conversions done once.
     q.lodBias = lodFixedFromFloat(s.lodBias);

@@ -72,7 +72,7 @@ struct QuadSampler {
     std::array<int, 4> baseSize{1, 1, 1, 1};  // level-base extent (λ is measured in it)
     float baseSizeF[2] = {1.0f, 1.0f};        // the same as floats
     LevelParams levels{};                     // chooseLevels' inputs
-    bool constantChoice = false;  // no mipmaps, MAG = MIN: `choice` whatever λ is
+    bool constantChoice = false;  // MAG = MIN, no mipmaps or q = base: `choice` whatever λ is
     LevelChoice choice{};
     std::array<LevelView, kMaxLevels> level{};
 };
