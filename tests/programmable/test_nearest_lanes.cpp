@@ -1,6 +1,6 @@
 // The point-sampled fast fetch of fragment programs (rasterizer/program.h NearestFloat2D,
 // its four-lane and N-quad forms in quad_program.h: detail::nearestIndices and
-// detail::nearestLoads) against the tap-list reference (tex::programFetch on
+// detail::nearestLoads; the wide indices of quad_program_wide.h) against the tap-list reference (tex::programFetch on
 // Path::Reference), bit for bit, over random float textures, samplers and coordinates —
 // NaN, ±infinity, negative, huge, denormal, −0 and texel boundaries ± one ulp included.
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 
 #include "core/profile.h"
 #include "rasterizer/programmable_device.h"
+#include "rasterizer/quad_program_wide.h"
 #include "texunit/program_fetch.h"
 
 namespace rg::raster {
@@ -130,6 +131,25 @@ TEST(ProgramFetch, PointSampledFastFetchMatchesTheTapListBitForBit) {
             __m128 x[kQuads], y[kQuads], z[kQuads], w[kQuads];
             detail::nearestIndices<kQuads>(n, s4, t4, idx);
             detail::nearestLoads<kQuads>(n, idx, live, x, y, z, w);
+            // The wide form (quad_program_wide.h) computes the same texel indices, eight
+            // lanes per register.
+            using W = WideLanes<2>;
+            for (int k = 0; k < 2; ++k) {
+                W::F ws, wt;
+                std::memcpy(&ws, sx + 8 * k, 32);
+                std::memcpy(&wt, ty + 8 * k, 32);
+                W::I wx, wy;
+                detail::nearestTexelsWide<2>(ws, n.width, n.wrapS, wx);
+                detail::nearestTexelsWide<2>(wt, n.height, n.wrapT, wy);
+                for (int lane = 0; lane < 8; ++lane) {
+                    const int i = 8 * k + lane;
+                    const int32_t wide = n.height == 1 ? wx[lane] : wy[lane] * n.width + wx[lane];
+                    alignas(16) int32_t narrow[4];
+                    _mm_store_si128(reinterpret_cast<__m128i*>(narrow), idx[i / 4]);
+                    ASSERT_EQ(wide, narrow[i % 4]) << "nearestTexelsWide, case " << tcase << "/" << scase << " at ("
+                                                   << sx[i] << ", " << ty[i] << ")";
+                }
+            }
             // And one quad alone (the QuadContext form).
             __m128i idx1[1];
             __m128 x1[1], y1[1], z1[1], w1[1];

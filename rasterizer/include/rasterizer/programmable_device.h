@@ -27,6 +27,7 @@
 #include "rasterizer/device.h"
 #include "rasterizer/program.h"
 #include "rasterizer/quad_program.h"
+#include "rasterizer/quad_program_wide.h"
 #include "rasterizer/state.h"
 
 namespace rg::raster {
@@ -278,23 +279,29 @@ NearestFloat2D nearestFloat2D(const tex::Texture* texture, const tex::SamplerSta
 // the tests can hold both to the reference).
 bool programAvx2();
 
-// Quads per group for programs that run on a QuadGroupContext (quad_program.h).
+// Quads per group for programs that run on a QuadGroupContext (quad_program.h): the SSE2
+// kernel, and the AVX2 kernel's QuadGroupWideContext (two quads per 256-bit register).
 constexpr int kGroupQuads = 4;
+constexpr int kWideGroupQuads = 4;
 
 // A quad program written for any context (a template on it) also runs kGroupQuads quads
 // at once on the fast path.
 template <class FP>
-constexpr bool kIsGroupProgram =
-    kIsQuadProgram<FP> && requires(const FP& fp, QuadGroupContext<kGroupQuads>& g) { fp(g); };
+constexpr bool kIsGroupProgram = kIsQuadProgram<FP> &&
+                                 requires(const FP& fp, QuadGroupContext<kGroupQuads>& g,
+                                          QuadGroupWideContext<kWideGroupQuads>& w) {
+                                     fp(g);
+                                     fp(w);
+                                 };
 
 // The quads of a group through the program at once: what shadeQuadLanes does to each, in
 // the same order for everything outside the program (the quads' pixels are distinct, so
 // early tests before the other quads' depth writes see the same values).
-template <class FP, int N>
+template <class FP, int N, class Group>
 inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const ProgramTriangle& t,
                            const std::array<QuadVaryings, N>& q, const std::array<std::array<float, 4>, N>& iw,
                            const std::array<uint32_t, N>& mask, const std::array<int, N>& qx,
-                           const std::array<int, N>& qy, QuadGroupContext<N>& g, ProgramCounters& c) {
+                           const std::array<int, N>& qy, Group& g, ProgramCounters& c) {
     static_assert(!FP::kWritesDepth, "quad programs cannot write depth");
     float zStore[N][4];
     uint32_t run = 0;
@@ -364,23 +371,24 @@ struct ProgramKernel {
     [[gnu::target("avx2"), gnu::flatten]] static void runQuadGroupsAvx2(const ProgramKernel& k,
                                                                      const ProgramTriangle& t, int x0, int y0,
                                                                      int x1, int y1, ProgramCounters& c) {
-        runQuadGroups(k, t, x0, y0, x1, y1, c);
+        runQuadGroups<QuadGroupWideContext<kWideGroupQuads>>(k, t, x0, y0, x1, y1, c);
     }
 
     // runQuads for a group program: covered quads in the same order, kGroupQuads at a time;
     // a last incomplete group runs quad by quad. Coverage steps the edge functions along
     // each row of quads (the integers covers() computes, exactly), and the counters add up
     // locally.
+    template <class Group = QuadGroupContext<kGroupQuads>>
     static void runQuadGroups(const ProgramKernel& k, const ProgramTriangle& t, int x0, int y0, int x1,
                               int y1, ProgramCounters& counters) {
-        constexpr int N = kGroupQuads;
+        constexpr int N = Group::kQuads;
         const ProgramDraw& d = *k.d;
         ProgramCounters c;
         std::array<QuadVaryings, N> q;
         std::array<std::array<float, 4>, N> iw;
         std::array<uint32_t, N> mask{};
         std::array<int, N> qxs{}, qys{};
-        QuadGroupContext<N> g;
+        Group g;
         int pending = 0;
         const int s = d.subpixelBits;
         const int64_t half = int64_t{1} << (s - 1);
@@ -414,7 +422,7 @@ struct ProgramKernel {
                 qxs[size_t(pending)] = qx;
                 qys[size_t(pending)] = qy;
                 if (++pending == N) {
-                    shadeQuadGroup<FP, N>(*k.fp, d, t, q, iw, mask, qxs, qys, g, c);
+                    shadeQuadGroup<FP, N, Group>(*k.fp, d, t, q, iw, mask, qxs, qys, g, c);
                     pending = 0;
                 }
             }

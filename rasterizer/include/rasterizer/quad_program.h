@@ -234,6 +234,8 @@ template <int N>
 
 template <int N>
 class QuadGroupContext;
+template <int N>
+class QuadGroupWideContext;
 
 // What a quad program sees: lane i is pixel i of the quad (x + (i & 1), y + (i >> 1)).
 // active() are the lanes the program runs for (covered, past the early depth test, not
@@ -330,6 +332,8 @@ class QuadContext {
 
     template <int>
     friend class QuadGroupContext;
+    template <int>
+    friend class QuadGroupWideContext;
     // The lanes of a point-sampled fetch: active and in `m`; each counts a fetch.
     __m128 liveLanes(Mask4 m) {
         const __m128 live = _mm_and_ps(live_, m.v);
@@ -520,7 +524,18 @@ class QuadGroupContext {
     // Inlined into the program whatever its size: the quads' chains interleave only there.
     [[gnu::always_inline]] Vec4 sampleLevel(int unit, const Vec4& c, const Float& lod, const Mask& m = Mask::allLanes()) {
         const detail::BoundUnit& b = quads_[0].unit(unit);
-        if (!(b.nearest.lanes4 && quads_[0].setup_->path == Path::Fast)) return sampleLevelQuads(unit, c, lod, m);
+        if (!(b.nearest.lanes4 && quads_[0].setup_->path == Path::Fast)) [[unlikely]] {
+            // Copied on this branch only, into storage the compiler cannot move stores
+            // to (a thread's own): the caller's temporaries are only read, so they stay
+            // in registers on the fast path.
+            SlowArgs& a = slowArgs();
+            for (int i = 0; i < N; ++i) {  // quad by quad: no aggregate copy
+                a.c.setQuad(i, c.quad(i));
+                a.lod.q[size_t(i)] = lod.q[size_t(i)];
+                a.m.q[size_t(i)] = m.q[size_t(i)];
+            }
+            return sampleLevelQuads(unit, a);
+        }
         __m128 s[N], t[N], live[N];
         for (int i = 0; i < N; ++i) {
             s[i] = c.x.q[size_t(i)].v;
@@ -557,8 +572,19 @@ class QuadGroupContext {
 
   private:
     // Quad by quad: filtered samplers, non-power-of-two WRAP, the reference path.
-    // By value: only this branch materializes the arguments in memory.
-    [[gnu::noinline]] Vec4 sampleLevelQuads(int unit, Vec4 c, Float lod, Mask m) {
+    struct SlowArgs {
+        Vec4 c;
+        Float lod;
+        Mask m;
+    };
+    [[gnu::noipa]] static SlowArgs& slowArgs() {
+        static thread_local SlowArgs a;
+        return a;
+    }
+    [[gnu::noipa, gnu::cold]] Vec4 sampleLevelQuads(int unit, const SlowArgs& a) {
+        const Vec4& c = a.c;
+        const Float& lod = a.lod;
+        const Mask& m = a.m;
         Vec4 r;
         for (int i = 0; i < N; ++i)
             r.setQuad(i, quads_[size_t(i)].sampleLevel(unit, c.quad(i), lod.q[size_t(i)], m.q[size_t(i)]));

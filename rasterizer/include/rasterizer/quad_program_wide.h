@@ -1,0 +1,330 @@
+// Quad groups in wide registers: the lane types of QuadGroupContext (quad_program.h) as
+// GCC/Clang vector extensions of 4N floats, so that the AVX2 kernel (programmable_device.h:
+// runQuadGroupsAvx2) runs two quads per 256-bit operation. The vector types are plain
+// C++ — no target intrinsics — so the program compiles for any target; inlined into the
+// kernel built for AVX2 they become AVX2 instructions, elsewhere the compiler splits them.
+//
+// Every operation is the IEEE binary32 operation lane by lane that Float4's SSE
+// instruction performs (add, sub, mul, div, compares; select and min/max as written in
+// quad_program.h, NaN included), so lane j of quad i computes what it computes alone.
+#pragma once
+
+#include <cmath>
+#include <cstring>
+
+#include "rasterizer/quad_program.h"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"  // the AVX2 kernel inlines all of it: no call uses the ABI
+
+namespace rg::raster {
+
+// 4N lanes in N/2 registers of eight (one 256-bit register each on AVX2): wider vector
+// types would be split by the compiler lane by lane on AVX2, and two or more registers
+// give the core independent chains to overlap.
+template <int N>
+struct WideLanes {
+    static_assert(N % 2 == 0, "wide groups hold whole registers of two quads");
+    static constexpr int kRegs = N / 2;
+    typedef float F __attribute__((vector_size(32)));
+    typedef int32_t I __attribute__((vector_size(32)));
+};
+
+template <int N>
+struct MaskW {
+    using I = typename WideLanes<N>::I;
+    static constexpr int kRegs = WideLanes<N>::kRegs;
+    I r[kRegs]{};
+    static MaskW allLanes() {
+        MaskW m;
+        for (auto& x : m.r) x = x == x;  // all ones
+        return m;
+    }
+    uint32_t bits() const {
+        uint32_t b = 0;
+        for (int k = 0; k < kRegs; ++k)
+            for (int i = 0; i < 8; ++i) b |= uint32_t(r[k][i] & 1) << (8 * k + i);
+        return b;
+    }
+    bool any() const { return bits() != 0; }
+    bool all() const { return bits() == (uint32_t(1) << (4 * N)) - 1u; }
+    Mask4 quad(int i) const {
+        __m128 q;
+        std::memcpy(&q, reinterpret_cast<const char*>(r) + 16 * i, 16);
+        return Mask4(q);
+    }
+    void setQuad(int i, Mask4 m) { std::memcpy(reinterpret_cast<char*>(r) + 16 * i, &m.v, 16); }
+    template <class Op>
+    static MaskW zip(const MaskW& a, const MaskW& b, Op op) {
+        MaskW m;
+        for (int k = 0; k < kRegs; ++k) op(m.r[k], a.r[k], b.r[k]);
+        return m;
+    }
+    friend MaskW operator&(const MaskW& a, const MaskW& b) { return zip(a, b, [](I& o, const I& x, const I& y) { o = x & y; }); }
+    friend MaskW operator|(const MaskW& a, const MaskW& b) { return zip(a, b, [](I& o, const I& x, const I& y) { o = x | y; }); }
+    friend MaskW operator^(const MaskW& a, const MaskW& b) { return zip(a, b, [](I& o, const I& x, const I& y) { o = x ^ y; }); }
+    friend MaskW andNot(const MaskW& a, const MaskW& b) {
+        return zip(a, b, [](I& o, const I& x, const I& y) { o = x & ~y; });
+    }
+};
+
+template <int N>
+struct FloatW {
+    using F = typename WideLanes<N>::F;
+    using I = typename WideLanes<N>::I;
+    static constexpr int kRegs = WideLanes<N>::kRegs;
+    F r[kRegs]{};
+    FloatW() = default;
+    FloatW(float s) {  // NOLINT: broadcasts like a scalar
+        for (auto& x : r) x = F{} + s;
+    }
+    float operator[](int i) const { return r[i >> 3][i & 7]; }
+    Float4 quad(int i) const {
+        __m128 q;
+        std::memcpy(&q, reinterpret_cast<const char*>(r) + 16 * i, 16);
+        return Float4(q);
+    }
+    void setQuad(int i, Float4 f) { std::memcpy(reinterpret_cast<char*>(r) + 16 * i, &f.v, 16); }
+    template <class Op>
+    static FloatW zip(const FloatW& a, const FloatW& b, Op op) {
+        FloatW o;
+        for (int k = 0; k < kRegs; ++k) op(o.r[k], a.r[k], b.r[k]);
+        return o;
+    }
+    template <class Op>
+    static MaskW<N> compare(const FloatW& a, const FloatW& b, Op op) {
+        MaskW<N> m;
+        for (int k = 0; k < kRegs; ++k) op(m.r[k], a.r[k], b.r[k]);
+        return m;
+    }
+    friend FloatW operator+(const FloatW& a, const FloatW& b) { return zip(a, b, [](F& o, const F& x, const F& y) { o = x + y; }); }
+    friend FloatW operator-(const FloatW& a, const FloatW& b) { return zip(a, b, [](F& o, const F& x, const F& y) { o = x - y; }); }
+    friend FloatW operator*(const FloatW& a, const FloatW& b) { return zip(a, b, [](F& o, const F& x, const F& y) { o = x * y; }); }
+    friend FloatW operator/(const FloatW& a, const FloatW& b) { return zip(a, b, [](F& o, const F& x, const F& y) { o = x / y; }); }
+    friend FloatW operator-(const FloatW& a) { return zip(a, a, [](F& o, const F& x, const F&) { o = -x; }); }
+    FloatW& operator+=(const FloatW& b) { return *this = *this + b; }
+    FloatW& operator-=(const FloatW& b) { return *this = *this - b; }
+    FloatW& operator*=(const FloatW& b) { return *this = *this * b; }
+    friend MaskW<N> operator<(const FloatW& a, const FloatW& b) { return compare(a, b, [](I& o, const F& x, const F& y) { o = x < y; }); }
+    friend MaskW<N> operator<=(const FloatW& a, const FloatW& b) { return compare(a, b, [](I& o, const F& x, const F& y) { o = x <= y; }); }
+    friend MaskW<N> operator>(const FloatW& a, const FloatW& b) { return compare(a, b, [](I& o, const F& x, const F& y) { o = x > y; }); }
+    friend MaskW<N> operator>=(const FloatW& a, const FloatW& b) { return compare(a, b, [](I& o, const F& x, const F& y) { o = x >= y; }); }
+    friend MaskW<N> operator==(const FloatW& a, const FloatW& b) { return compare(a, b, [](I& o, const F& x, const F& y) { o = x == y; }); }
+    friend MaskW<N> operator!=(const FloatW& a, const FloatW& b) { return compare(a, b, [](I& o, const F& x, const F& y) { o = x != y; }); }
+};
+
+template <int N>
+FloatW<N> select(const MaskW<N>& m, const FloatW<N>& a, const FloatW<N>& b) {
+    FloatW<N> o;
+    for (int k = 0; k < FloatW<N>::kRegs; ++k) o.r[k] = m.r[k] ? a.r[k] : b.r[k];
+    return o;
+}
+template <int N>
+FloatW<N> min(const FloatW<N>& a, const FloatW<N>& b) {  // (b < a) ? b : a, as min(Float4)
+    return select(b < a, b, a);
+}
+template <int N>
+FloatW<N> max(const FloatW<N>& a, const FloatW<N>& b) {  // (a < b) ? b : a, as max(Float4)
+    return select(a < b, b, a);
+}
+template <int N>
+FloatW<N> sqrt(const FloatW<N>& a) {  // correctly rounded, as SQRTPS
+    FloatW<N> o;
+    for (int k = 0; k < FloatW<N>::kRegs; ++k)
+        for (int i = 0; i < 8; ++i) o.r[k][i] = std::sqrt(a.r[k][i]);
+    return o;
+}
+template <int N>
+FloatW<N> abs(const FloatW<N>& a) {  // the sign bit cleared, as abs(Float4)
+    using I = typename WideLanes<N>::I;
+    using F = typename WideLanes<N>::F;
+    FloatW<N> o;
+    for (int k = 0; k < FloatW<N>::kRegs; ++k)
+        o.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(a.r[k]) & (I{} + 0x7FFFFFFF));
+    return o;
+}
+
+template <int N>
+struct Vec3W {
+    FloatW<N> x, y, z;
+    Vec3W() = default;
+    Vec3W(const FloatW<N>& a, const FloatW<N>& b, const FloatW<N>& c) : x(a), y(b), z(c) {}
+    friend Vec3W operator+(const Vec3W& a, const Vec3W& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+    friend Vec3W operator-(const Vec3W& a, const Vec3W& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+    friend Vec3W operator*(const Vec3W& a, const FloatW<N>& s) { return {a.x * s, a.y * s, a.z * s}; }
+    friend Vec3W operator*(const Vec3W& a, const Vec3W& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+};
+template <int N>
+FloatW<N> dot(const Vec3W<N>& a, const Vec3W<N>& b) {  // glm::dot's order, as dot(Vec3x4)
+    return (a.x * b.x + a.y * b.y) + a.z * b.z;
+}
+template <int N>
+Vec3W<N> select(const MaskW<N>& m, const Vec3W<N>& a, const Vec3W<N>& b) {
+    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
+}
+
+template <int N>
+struct Vec4W {
+    FloatW<N> x, y, z, w;
+    Vec4W() = default;
+    Vec4W(const FloatW<N>& a, const FloatW<N>& b, const FloatW<N>& c, const FloatW<N>& d)
+        : x(a), y(b), z(c), w(d) {}
+    Vec3W<N> xyz() const { return {x, y, z}; }
+    Vec4x4 quad(int i) const { return {x.quad(i), y.quad(i), z.quad(i), w.quad(i)}; }
+    void setQuad(int i, const Vec4x4& v) {
+        x.setQuad(i, v.x);
+        y.setQuad(i, v.y);
+        z.setQuad(i, v.z);
+        w.setQuad(i, v.w);
+    }
+    friend Vec4W operator+(const Vec4W& a, const Vec4W& b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
+    friend Vec4W operator-(const Vec4W& a, const Vec4W& b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
+    friend Vec4W operator*(const Vec4W& a, const FloatW<N>& s) { return {a.x * s, a.y * s, a.z * s, a.w * s}; }
+    friend Vec4W operator*(const Vec4W& a, const Vec4W& b) { return {a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w}; }
+};
+template <int N>
+Vec4W<N> select(const MaskW<N>& m, const Vec4W<N>& a, const Vec4W<N>& b) {
+    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z), select(m, a.w, b.w)};
+}
+
+namespace detail {
+
+// nearestTexels (quad_program.h) on 4N lanes in wide vectors: the same steps — a compare
+// and select where MAXPS/MINPS stood (u > lo ? u : lo is MAXPS(u, lo), NaN → lo), the
+// conversion truncating, the step down for negative non-integers.
+// (Results through references: no wide vector is passed or returned by value.)
+template <int N>
+inline void nearestTexelsWide(const typename WideLanes<N>::F& c, int n, bool wrap, typename WideLanes<N>::I& out) {
+    using F = typename WideLanes<N>::F;
+    using I = typename WideLanes<N>::I;
+    F u = c * float(n);
+    if (!wrap) {
+        const F zero{}, last = F{} + float(n - 1);
+        u = u > zero ? u : zero;
+        u = u < last ? u : last;
+        out = __builtin_convertvector(u, I);
+        return;
+    }
+    const F lo = F{} - 4194304.0f, hi = F{} + 4194304.0f;
+    u = u > lo ? u : lo;
+    u = u < hi ? u : hi;
+    const I t = __builtin_convertvector(u, I);
+    out = (t + (__builtin_convertvector(t, F) > u)) & (n - 1);
+}
+
+}  // namespace detail
+
+// QuadGroupContext with wide lane types: the same interface and the same per-quad calls,
+// the point-sampled fetch on all 4N lanes at once.
+template <int N>
+class QuadGroupWideContext {
+  public:
+    using Float = FloatW<N>;
+    using Mask = MaskW<N>;
+    using Vec3 = Vec3W<N>;
+    using Vec4 = Vec4W<N>;
+    static constexpr int kQuads = N;
+
+    Mask active() const {
+        Mask m;
+        for (int i = 0; i < N; ++i) m.setQuad(i, quads_[size_t(i)].active());
+        return m;
+    }
+    Vec4 varying(int k) const { return each([&](const QuadContext& c) { return c.varying(k); }); }
+    Vec4 fragCoord() const { return each([](const QuadContext& c) { return c.fragCoord(); }); }
+    [[gnu::always_inline]] Vec4 sampleLevel(int unit, const Vec4& c, const Float& lod,
+                                            const Mask& m = Mask::allLanes()) {
+        using F = typename WideLanes<N>::F;
+        using I = typename WideLanes<N>::I;
+        constexpr int kRegs = WideLanes<N>::kRegs;
+        const detail::BoundUnit& b = quads_[0].unit(unit);
+        const detail::NearestFloat2D& n = b.nearest;
+        if (!(n.lanes4 && n.data1 && quads_[0].setup_->path == Path::Fast)) [[unlikely]] {
+            // Copied on this branch only, into storage the compiler cannot move stores
+            // to (a thread's own): the caller's temporaries are only read, so they stay
+            // in registers on the fast path.
+            SlowArgs& a = slowArgs();
+            for (int k = 0; k < kRegs; ++k) {  // register by register: no aggregate copy
+                a.c.x.r[k] = c.x.r[k];
+                a.c.y.r[k] = c.y.r[k];
+                a.c.z.r[k] = c.z.r[k];
+                a.c.w.r[k] = c.w.r[k];
+                a.lod.r[k] = lod.r[k];
+                a.m.r[k] = m.r[k];
+            }
+            return sampleLevelQuads(unit, a);
+        }
+        Mask live;
+        for (int i = 0; i < N; ++i) live.setQuad(i, Mask4(quads_[size_t(i)].liveLanes(m.quad(i))));
+        // detail::nearestIndices, then detail::nearestLoads' one-channel case, register by
+        // register.
+        I idx[kRegs], y[kRegs];
+        for (int k = 0; k < kRegs; ++k) detail::nearestTexelsWide<N>(c.x.r[k], n.width, n.wrapS, idx[k]);
+        if (n.height != 1) {
+            for (int k = 0; k < kRegs; ++k) detail::nearestTexelsWide<N>(c.y.r[k], n.height, n.wrapT, y[k]);
+            for (int k = 0; k < kRegs; ++k)
+                idx[k] = n.widthShift >= 0 ? (y[k] << n.widthShift) + idx[k] : y[k] * n.width + idx[k];
+        }
+        Float t, one;
+        for (int k = 0; k < kRegs; ++k) {
+            F v;
+            for (int i = 0; i < 8; ++i) v[i] = n.data1[uint32_t(idx[k][i])];
+            t.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(v + 0.0f) & live.r[k]);  // −0 → +0
+            one.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(F{} + 1.0f) & live.r[k]);
+        }
+        return n.depth ? Vec4(t, t, t, one) : Vec4(t, Float(0.0f), Float(0.0f), one);
+    }
+    Vec4 sample(int unit, int k, const Mask& m = Mask::allLanes()) {
+        Vec4 r;
+        for (int i = 0; i < N; ++i) r.setQuad(i, quads_[size_t(i)].sample(unit, k, m.quad(i)));
+        return r;
+    }
+    Float sampleCompare(int unit, const Vec4& c, const Float& ref, const Mask& m = Mask::allLanes()) {
+        Float r;
+        for (int i = 0; i < N; ++i)
+            r.setQuad(i, quads_[size_t(i)].sampleCompare(unit, c.quad(i), ref.quad(i), m.quad(i)));
+        return r;
+    }
+    void discard(const Mask& m) {
+        for (int i = 0; i < N; ++i) quads_[size_t(i)].discard(m.quad(i));
+    }
+    void output(int target, const Vec4& color, const Mask& m = Mask::allLanes()) {
+        for (int i = 0; i < N; ++i) quads_[size_t(i)].output(target, color.quad(i), m.quad(i));
+    }
+
+    // ---- used by the pipeline --------------------------------------------------------------
+    QuadContext& quad(int i) { return quads_[size_t(i)]; }
+
+  private:
+    // Quad by quad: filtered samplers, four-channel textures, non-power-of-two WRAP, the
+    // reference path.
+    struct SlowArgs {
+        Vec4 c;
+        Float lod;
+        Mask m;
+    };
+    [[gnu::noipa]] static SlowArgs& slowArgs() {
+        static thread_local SlowArgs a;
+        return a;
+    }
+    [[gnu::noipa, gnu::cold]] Vec4 sampleLevelQuads(int unit, const SlowArgs& a) {
+        const Vec4& c = a.c;
+        const Float& lod = a.lod;
+        const Mask& m = a.m;
+        Vec4 r;
+        for (int i = 0; i < N; ++i)
+            r.setQuad(i, quads_[size_t(i)].sampleLevel(unit, c.quad(i), lod.quad(i), m.quad(i)));
+        return r;
+    }
+    template <class Fn>
+    Vec4 each(Fn f) const {
+        Vec4 r;
+        for (int i = 0; i < N; ++i) r.setQuad(i, f(quads_[size_t(i)]));
+        return r;
+    }
+    std::array<QuadContext, N> quads_;
+};
+
+}  // namespace rg::raster
+
+#pragma GCC diagnostic pop
