@@ -38,6 +38,14 @@
 
 #include "rasterizer/program.h"
 
+// A function the optimizer must leave whole (no cloning, no partial inlining, which would
+// pull a cold path's argument copies into its hot caller); Clang has no noipa.
+#if defined(__clang__)
+#define RG_NOIPA gnu::noinline
+#else
+#define RG_NOIPA gnu::noipa
+#endif
+
 namespace rg::raster {
 
 struct Mask4 {
@@ -204,7 +212,13 @@ template <int N>
                                                 const __m128 (&live)[N], __m128 (&x)[N], __m128 (&y)[N],
                                                 __m128 (&z)[N], __m128 (&w)[N]) {
     auto index = [](__m128i v, int lane) {
-        return size_t(uint32_t(_mm_cvtsi128_si32(lane == 0 ? v : _mm_shuffle_epi32(v, lane * 0x55))));
+        switch (lane) {  // PSHUFD takes its lane as an immediate
+            case 1: v = _mm_shuffle_epi32(v, 0x55); break;
+            case 2: v = _mm_shuffle_epi32(v, 0xAA); break;
+            case 3: v = _mm_shuffle_epi32(v, 0xFF); break;
+            default: break;
+        }
+        return size_t(uint32_t(_mm_cvtsi128_si32(v)));
     };
     const __m128 zero = _mm_setzero_ps();
     if (n.data1) {
@@ -577,11 +591,11 @@ class QuadGroupContext {
         Float lod;
         Mask m;
     };
-    [[gnu::noipa]] static SlowArgs& slowArgs() {
+    [[RG_NOIPA]] static SlowArgs& slowArgs() {
         static thread_local SlowArgs a;
         return a;
     }
-    [[gnu::noipa, gnu::cold]] Vec4 sampleLevelQuads(int unit, const SlowArgs& a) {
+    [[RG_NOIPA, gnu::cold]] Vec4 sampleLevelQuads(int unit, const SlowArgs& a) {
         const Vec4& c = a.c;
         const Float& lod = a.lod;
         const Mask& m = a.m;

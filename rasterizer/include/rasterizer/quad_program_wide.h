@@ -303,11 +303,11 @@ class QuadGroupWideContext {
         Float lod;
         Mask m;
     };
-    [[gnu::noipa]] static SlowArgs& slowArgs() {
+    [[RG_NOIPA]] static SlowArgs& slowArgs() {
         static thread_local SlowArgs a;
         return a;
     }
-    [[gnu::noipa, gnu::cold]] Vec4 sampleLevelQuads(int unit, const SlowArgs& a) {
+    [[RG_NOIPA, gnu::cold]] Vec4 sampleLevelQuads(int unit, const SlowArgs& a) {
         const Vec4& c = a.c;
         const Float& lod = a.lod;
         const Mask& m = a.m;
