@@ -150,8 +150,12 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         const int tilesX = (fb.width() + kTileSize - 1) / kTileSize;
         const int tilesY = (fb.height() + kTileSize - 1) / kTileSize;
         const uint32_t chunkCount = (triangles + kChunk - 1) / kChunk;
-        if (scratchChunks.size() < chunkCount) scratchChunks.resize(chunkCount);
-        std::span<TriangleChunk> chunks(scratchChunks.data(), chunkCount);
+        // Chunks per batch (see below): 8 measured best on 2 threads (4 the same, all of a
+        // draw's 40 chunks 1.3 times the CPU time); at least two per thread.
+        const uint32_t kBatch = std::max<uint32_t>(8, 2 * uint32_t(arena->max_concurrency()));
+        const uint32_t batch = std::min(chunkCount, kBatch);
+        if (scratchChunks.size() < batch) scratchChunks.resize(batch);
+        std::span<TriangleChunk> chunks(scratchChunks.data(), batch);
         std::vector<RasterCounters> tileCounters(size_t(tilesX) * tilesY);
         const bool multi = arena->max_concurrency() > 1;
         if (arena->max_concurrency() == 1) {
@@ -190,33 +194,46 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
                               });
             RG_TSAN_ACQUIRE(&forkJoin);
             RG_TSAN_RELEASE(&forkJoin);
-            tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
+            // Then batches of chunks: set up and bin a batch in parallel, then
+            // rasterize its tiles in parallel. The batches reuse the same chunk buffers, so
+            // the SetupTriangles (256 bytes each) stay in cache between setup and
+            // rasterization instead of a whole draw's going out to memory and back
+            // (measured: with all chunks set up first, setup and rasterization cost 1.6
+            // and 1.9 times the CPU time of the one-thread path on a 40,000-triangle mesh).
+            // Tiles walk a batch's chunks in order and the batches run in order, so each
+            // pixel still sees its triangles in submission order.
+            for (uint32_t c0 = 0; c0 < chunkCount; c0 += batch) {
+                const uint32_t n = std::min(batch, chunkCount - c0);
+                tbb::parallel_for(uint32_t(0), n, [&](uint32_t i) {
+                    RG_TSAN_ACQUIRE(&forkJoin);
+                    TriangleChunk& ch = chunks[i];
+                    ch.tris.clear();
+                    ch.texPlanes.clear();
+                    GeometryCounters local;  // published once: chunks share cache lines
+                    const uint32_t c = c0 + i;
+                    setupRange(c * kChunk, std::min(triangles, (c + 1) * kChunk), ch.tris,
+                               ch.texPlanes, local, processedAt);
+                    ch.geometry = local;
+                    binChunk(ch, tilesX, tilesY);
+                    RG_TSAN_RELEASE(&forkJoin);
+                });
                 RG_TSAN_ACQUIRE(&forkJoin);
-                TriangleChunk& ch = chunks[c];
-                ch.tris.clear();
-                ch.texPlanes.clear();
-                GeometryCounters local;  // published once: chunks share cache lines
-                setupRange(c * kChunk, std::min(triangles, (c + 1) * kChunk), ch.tris, ch.texPlanes,
-                           local, processedAt);
-                ch.geometry = local;
-                binChunk(ch, tilesX, tilesY);
                 RG_TSAN_RELEASE(&forkJoin);
-            });
-            RG_TSAN_ACQUIRE(&forkJoin);
-            RG_TSAN_RELEASE(&forkJoin);
-            tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
+                tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
+                    RG_TSAN_ACQUIRE(&forkJoin);
+                    rasterizeTile(dc, std::span<const TriangleChunk>(chunks.data(), n), tile,
+                                  tilesX, tileCounters[size_t(tile)]);
+                    RG_TSAN_RELEASE(&forkJoin);
+                });
                 RG_TSAN_ACQUIRE(&forkJoin);
-                rasterizeTile(dc, std::span<const TriangleChunk>(chunks), tile, tilesX,
-                              tileCounters[size_t(tile)]);
                 RG_TSAN_RELEASE(&forkJoin);
-            });
+                for (uint32_t i = 0; i < n; ++i) gc.add(chunks[i].geometry);
+            }
         });
         RG_TSAN_ACQUIRE(&forkJoin);
         }
-        if (multi) {
-            for (const TriangleChunk& ch : chunks) gc.add(ch.geometry);
+        if (multi)
             for (const RasterCounters& t : tileCounters) rc.add(t);
-        }
     }
     counters.trianglesSubmitted += gc.submitted;
     counters.trianglesCulled += gc.culled;

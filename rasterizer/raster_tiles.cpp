@@ -418,7 +418,7 @@ void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks,
     const TriangleRunFn run = selectTriangleRun(dc);
     for (const TriangleChunk& chunk : chunks)
         run(dc, chunk, chunk.binStart[tile], chunk.binStart[tile + 1], &tileBox, walk, rc);
-    out = rc;
+    out.add(rc);
 }
 
 }  // namespace rg::raster::detail

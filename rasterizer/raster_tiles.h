@@ -23,7 +23,8 @@ struct TriangleChunk {
 };
 
 void binChunk(TriangleChunk& chunk, int tilesX, int tilesY);
-// Rasterizes every chunk's triangles that touch tile `tile`, in chunk and triangle order.
+// Rasterizes every chunk's triangles that touch tile `tile`, in chunk and triangle order,
+// adding its counts to `rc`.
 void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks, int tile,
                    int tilesX, RasterCounters& rc);
 

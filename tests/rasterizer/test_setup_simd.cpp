@@ -24,7 +24,11 @@
 #include <string>
 #include <vector>
 
+#include <tbb/global_control.h>
+
+#include "core/profile.h"
 #include "pipeline.h"
+#include "rasterizer/device.h"
 #include "rasterizer/framebuffer.h"
 #include "texunit/texture_units.h"
 
@@ -324,6 +328,73 @@ TEST(SetupSimd, EightVertexLanesEqualTheScalarVertexStage) {
             EXPECT_EQ(a.unclipped, b.unclipped) << where;
             for (int c = 0; c < kColorAttrs; ++c) EXPECT_TRUE(sameBits(a.attr[c], b.attr[c])) << where;
             if (::testing::Test::HasFailure()) return;
+        }
+    }
+}
+
+// Draws of more triangles than one batch of chunks holds (the fast path sets up and
+// rasterizes 1024-triangle chunks in batches of at least 8; device.cpp) and, on one
+// thread, chunks whose vertices are transformed just before them: overlapping blended
+// triangles, so that any change of order would change bytes, through indices that grow
+// along the mesh (interleaved vertex transform) and random ones (all vertices at the first
+// chunk), against the reference on 1, 2 and 3 threads.
+TEST(PathsAgree, DrawsOfSeveralChunkBatchesGiveIdenticalBytesOnAnyThreadCount) {
+    tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 3);
+    Rng r(5);
+    const int W = 160, H = 120;
+    std::vector<Vertex> verts;
+    float x = W / 2, y = H / 2;  // a random walk: neighbours in vertex order lie close
+    for (int k = 0; k < 9000; ++k) {
+        x = std::fmod(x + r.f(-3.0f, 3.0f) + W + 16.0f, W + 16.0f);
+        y = std::fmod(y + r.f(-3.0f, 3.0f) + H + 16.0f, H + 16.0f);
+        Vertex v;
+        v.position = {x - 8.0f, y - 8.0f, r.f(0.0f, 1.0f), 1.0f};
+        v.diffuse = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
+                          uint8_t(r.i(0, 255))};
+        verts.push_back(v);
+    }
+    for (bool randomIndices : {false, true}) {
+        // Triangles of nearby vertices (a few pixels; a few cross the whole target where the
+        // walk wraps), 3 × 9000 = 27,000 of them: 27 chunks.
+        std::vector<uint32_t> indices;
+        for (uint32_t k = 0; k < 3 * 9000; ++k) {
+            const uint32_t base = randomIndices ? uint32_t(r.i(0, 8999)) : k / 3;
+            indices.push_back(base);
+            indices.push_back(uint32_t(std::min<int64_t>(8999, base + r.i(1, 3))));
+            indices.push_back(uint32_t(std::min<int64_t>(8999, base + r.i(1, 5))));
+        }
+        PipelineState st;
+        st.cull = CullMode::None;
+        st.shade = ShadeMode::Gouraud;
+        st.blend = 1;
+        st.srcBlend = BlendFactor::SrcAlpha;
+        st.dstBlend = BlendFactor::InvSrcAlpha;
+        st.depthTest = 0;
+        std::string expected;
+        Counters expectedCounters;
+        for (int threads : {0, 1, 2, 3}) {  // 0: the reference path
+            Device dev(profile(ProfileId::GeForce256), W, H, DepthFormat::None,
+                       {threads == 0 ? Path::Reference : Path::Fast, std::max(threads, 1)});
+            dev.setState(st);
+            dev.setTransforms(glm::mat4(1.0f), glm::mat4(1.0f),
+                              glm::orthoLH_ZO(0.0f, float(W), float(H), 0.0f, 0.0f, 1.0f));
+            dev.beginFrame();
+            dev.clear(true, Rgba8{10, 20, 30, 40}, false, 1.0f);
+            dev.draw(Primitive::TriangleList, VertexSpace::Untransformed, verts, indices);
+            const Framebuffer& fb = dev.framebuffer();
+            const std::string bytes(reinterpret_cast<const char*>(fb.color().data()),
+                                    fb.color().size_bytes());
+            if (threads == 0) {
+                expected = bytes;
+                expectedCounters = dev.counters();
+                EXPECT_GT(expectedCounters.fragmentsWritten, 100000u);
+                continue;
+            }
+            EXPECT_TRUE(bytes == expected) << threads << " threads, random indices "
+                                           << randomIndices;
+            EXPECT_EQ(dev.counters().trianglesDrawn, expectedCounters.trianglesDrawn);
+            EXPECT_EQ(dev.counters().fragmentsWritten, expectedCounters.fragmentsWritten);
+            EXPECT_EQ(dev.counters().blendOps, expectedCounters.blendOps);
         }
     }
 }
