@@ -322,7 +322,7 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
                 _mm_storeu_ps(&q[1].texCoord[dst][size_t(i)][0], _mm256_extractf128_ps(px[i], 1));
             }
         }
-        alignas(16) std::array<Rgba8, 4> shaded[2];
+        alignas(16) std::array<Rgba8, 4> shaded[2] = {};  // an unshaded quad: no pixel passes
         for (int h = 0; h < 2; ++h)
             if (q[h].coverage) dc.tu->shadeQuad(q[h], shaded[h], dc.path);
         __m256i src = _mm256_set_m128i(
