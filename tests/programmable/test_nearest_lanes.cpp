@@ -1,6 +1,6 @@
 // The point-sampled fast fetch of fragment programs (rasterizer/program.h NearestFloat2D,
 // its four-lane and N-quad forms in quad_program.h: detail::nearestIndices and
-// detail::nearestLoads; the wide indices of quad_program_wide.h) against the tap-list reference (tex::programFetch on
+// detail::nearestLoads; the wide indices and the AVX2 gather of quad_program_wide.h) against the tap-list reference (tex::programFetch on
 // Path::Reference), bit for bit, over random float textures, samplers and coordinates —
 // NaN, ±infinity, negative, huge, denormal, −0 and texel boundaries ± one ulp included.
 #include <gtest/gtest.h>
@@ -58,7 +58,7 @@ TEST(ProgramFetch, PointSampledFastFetchMatchesTheTapListBitForBit) {
     const int sizes[] = {1, 2, 3, 4, 5, 8, 16, 24, 32, 100, 128};
     const AddressMode modes[] = {AddressMode::Wrap, AddressMode::ClampToEdge, AddressMode::Wrap,
                                  AddressMode::ClampToEdge, AddressMode::Border};
-    int compared = 0, comparedLanes = 0, casesLanes4 = 0;
+    int compared = 0, comparedLanes = 0, casesLanes4 = 0, comparedAvx2 = 0;
     for (int tcase = 0; tcase < 160; ++tcase) {
         tex::TextureDesc d;
         d.format = formats[rng() % 5];
@@ -150,6 +150,20 @@ TEST(ProgramFetch, PointSampledFastFetchMatchesTheTapListBitForBit) {
                                                    << sx[i] << ", " << ty[i] << ")";
                 }
             }
+            // The AVX2 kernel's one-channel fetch (gather), where the CPU has AVX2.
+            if (n.data1 && __builtin_cpu_supports("avx2")) {
+                alignas(32) int32_t liveBits32[16];
+                for (int i = 0; i < 16; ++i) liveBits32[i] = ((liveBits[i / 4] >> (i % 4)) & 1u) ? -1 : 0;
+                alignas(32) float got[16];
+                detail::nearestFetchAvx2<2>(n, sx, ty, liveBits32, got);
+                for (int i = 0; i < 16; ++i) {
+                    const float expect = ((liveBits[i / 4] >> (i % 4)) & 1u) ? want[i].x : 0.0f;
+                    ASSERT_EQ(std::memcmp(&got[i], &expect, 4), 0)
+                        << "nearestFetchAvx2, case " << tcase << "/" << scase << " lane " << i << " at (" << sx[i]
+                        << ", " << ty[i] << "): " << got[i] << " want " << expect;
+                    ++comparedAvx2;
+                }
+            }
             // And one quad alone (the QuadContext form).
             __m128i idx1[1];
             __m128 x1[1], y1[1], z1[1], w1[1];
@@ -178,6 +192,9 @@ TEST(ProgramFetch, PointSampledFastFetchMatchesTheTapListBitForBit) {
     EXPECT_GT(compared, 4000);
     EXPECT_GT(comparedLanes, 2000);
     EXPECT_GT(casesLanes4, 100);
+    if (__builtin_cpu_supports("avx2")) {
+        EXPECT_GT(comparedAvx2, 1000);
+    }
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 // quad_program.h, NaN included), so lane j of quad i computes what it computes alone.
 #pragma once
 
+#include <immintrin.h>
+
 #include <cmath>
 #include <cstring>
 
@@ -212,6 +214,41 @@ inline void nearestTexelsWide(const typename WideLanes<N>::F& c, int n, bool wra
     out = (t + (__builtin_convertvector(t, F) > u)) & (n - 1);
 }
 
+// The one-channel point fetch of kRegs registers (8 lanes each) with AVX2 instructions:
+// nearestTexelsWide's steps with MAXPS/MINPS in nearestTexels' operand order, the texels
+// through VGATHERDPS (lanes outside `live` gather nothing and read zero, as nearestLoads'
+// mask gives them), 0 + texel for −0. Only the AVX2 kernel reaches it (it is inlined there,
+// programmable_device.h: runQuadGroupsAvx2 is flattened); a target function taking its
+// vectors by pointer, so no call passes one in registers.
+[[gnu::target("avx2")]] inline __m256i nearestTexelsAvx2(__m256 c, int size, bool wrap) {
+    const __m256 u = _mm256_mul_ps(c, _mm256_set1_ps(float(size)));
+    if (!wrap)
+        return _mm256_cvttps_epi32(
+            _mm256_min_ps(_mm256_max_ps(u, _mm256_setzero_ps()), _mm256_set1_ps(float(size - 1))));
+    const __m256 v = _mm256_min_ps(_mm256_max_ps(u, _mm256_set1_ps(-4194304.0f)), _mm256_set1_ps(4194304.0f));
+    const __m256i i = _mm256_cvttps_epi32(v);
+    const __m256i down = _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(i), v, _CMP_GT_OQ));
+    return _mm256_and_si256(_mm256_add_epi32(i, down), _mm256_set1_epi32(size - 1));
+}
+
+template <int kRegs>
+[[gnu::target("avx2")]] inline void nearestFetchAvx2(const NearestFloat2D& n, const void* s, const void* t,
+                                                     const void* live, void* out) {
+    auto texels = nearestTexelsAvx2;
+    for (int k = 0; k < kRegs; ++k) {
+        const __m256 sk = _mm256_loadu_ps(static_cast<const float*>(s) + 8 * k);
+        __m256i idx = texels(sk, n.width, n.wrapS);
+        if (n.height != 1) {
+            const __m256i y = texels(_mm256_loadu_ps(static_cast<const float*>(t) + 8 * k), n.height, n.wrapT);
+            idx = _mm256_add_epi32(idx, n.widthShift >= 0 ? _mm256_sll_epi32(y, _mm_cvtsi32_si128(n.widthShift))
+                                                          : _mm256_mullo_epi32(y, _mm256_set1_epi32(n.width)));
+        }
+        const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
+        const __m256 v = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), n.data1, idx, m, 4);
+        _mm256_storeu_ps(static_cast<float*>(out) + 8 * k, _mm256_and_ps(_mm256_add_ps(v, _mm256_setzero_ps()), m));
+    }
+}
+
 }  // namespace detail
 
 // QuadGroupContext with wide lane types: the same interface and the same per-quad calls,
@@ -256,22 +293,9 @@ class QuadGroupWideContext {
         }
         Mask live;
         for (int i = 0; i < N; ++i) live.setQuad(i, Mask4(quads_[size_t(i)].liveLanes(m.quad(i))));
-        // detail::nearestIndices, then detail::nearestLoads' one-channel case, register by
-        // register.
-        I idx[kRegs], y[kRegs];
-        for (int k = 0; k < kRegs; ++k) detail::nearestTexelsWide<N>(c.x.r[k], n.width, n.wrapS, idx[k]);
-        if (n.height != 1) {
-            for (int k = 0; k < kRegs; ++k) detail::nearestTexelsWide<N>(c.y.r[k], n.height, n.wrapT, y[k]);
-            for (int k = 0; k < kRegs; ++k)
-                idx[k] = n.widthShift >= 0 ? (y[k] << n.widthShift) + idx[k] : y[k] * n.width + idx[k];
-        }
         Float t, one;
-        for (int k = 0; k < kRegs; ++k) {
-            F v;
-            for (int i = 0; i < 8; ++i) v[i] = n.data1[uint32_t(idx[k][i])];
-            t.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(v + 0.0f) & live.r[k]);  // −0 → +0
-            one.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(F{} + 1.0f) & live.r[k]);
-        }
+        detail::nearestFetchAvx2<kRegs>(n, c.x.r, c.y.r, live.r, t.r);
+        for (int k = 0; k < kRegs; ++k) one.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(F{} + 1.0f) & live.r[k]);
         return n.depth ? Vec4(t, t, t, one) : Vec4(t, Float(0.0f), Float(0.0f), one);
     }
     Vec4 sample(int unit, int k, const Mask& m = Mask::allLanes()) {
