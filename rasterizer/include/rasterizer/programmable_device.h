@@ -402,13 +402,35 @@ struct ProgramKernel {
             off[e][3] = a + b;
             stepX[e] = 2 * a;
         }
-        const int qx0 = x0 & ~1;
         for (int qy = y0 & ~1; qy <= y1; qy += 2) {
             const uint32_t rows = (qy >= y0 ? 3u : 0u) | (qy + 1 <= y1 ? 12u : 0u);
-            const int64_t X = (int64_t(qx0) << s) + half, Y = (int64_t(qy) << s) + half;
+            const int64_t Y = (int64_t(qy) << s) + half;
+            // The quads of the row that can be covered: an edge's largest value over a
+            // quad's pixels must be ≥ 0. In double with a quad's margin, so the range only
+            // skips quads the exact test below would reject.
+            int qxa = x0 & ~1, qxb = x1;
+            for (int e = 0; e < 3 && qxa <= qxb; ++e) {
+                const int64_t a = t.A[size_t(e)], b = t.B[size_t(e)];
+                const double rowBest = double(t.C[size_t(e)] + b * (Y + (b > 0 ? (int64_t{1} << s) : 0)));
+                if (a == 0) {
+                    if (rowBest < 0.0) qxa = qxb + 1;
+                    continue;
+                }
+                // Largest value at quad qx: rowBest + a·X(qx + (a > 0)), X(px) = (px << s) + half.
+                const double px = -(rowBest + double(a) * double(half)) / double(a * (int64_t{1} << s));
+                if (a > 0) {  // value grows with x: quads from x ≥ px − 1
+                    const double lo = std::floor(px) - 3.0;
+                    if (lo > double(qxa)) qxa = lo > double(qxb) ? qxb + 1 : int(lo) & ~1;
+                } else {  // quads up to px
+                    const double hi = std::ceil(px) + 3.0;
+                    if (hi < double(qxb)) qxb = hi < double(qxa) ? qxa - 1 : int(hi);
+                }
+            }
+            const int qx0 = qxa & ~1;
+            const int64_t X = (int64_t(qx0) << s) + half;
             int64_t E[3];
             for (int e = 0; e < 3; ++e) E[e] = t.C[size_t(e)] + t.A[size_t(e)] * X + t.B[size_t(e)] * Y;
-            for (int qx = qx0; qx <= x1; qx += 2) {
+            for (int qx = qx0; qx <= qxb; qx += 2) {
                 uint32_t m = 0;
                 for (int p = 0; p < 4; ++p) {
                     const int64_t all = (E[0] + off[0][p]) | (E[1] + off[1][p]) | (E[2] + off[2][p]);
