@@ -50,8 +50,24 @@ struct TexRowTerms {
 
 }  // namespace sse
 
+// Whether anything reads the quads' SPECULAR colour: the specular add, or an argument of a
+// stage the texture units run (those before the first colour op DISABLE, D3D7). When
+// nothing does, the kernels load 4 colour planes instead of 8 (sse::Planes::count) and
+// leave FragmentQuad::specular at zero.
+inline bool specularRead(const DrawContext& dc) {
+    if (dc.st.specularEnable) return true;
+    for (int i = 0; i < tex::kMaxStages; ++i) {
+        const tex::StageState& s = dc.tu->stage(i);
+        if (s.colorOp == tex::TextureOp::Disable) break;
+        for (uint8_t a : {s.colorArg0, s.colorArg1, s.colorArg2, s.alphaArg0, s.alphaArg1,
+                          s.alphaArg2})
+            if ((a & tex::arg::SourceMask) == tex::arg::Specular) return true;
+    }
+    return false;
+}
+
 // `q` is the triangle's FragmentQuad scratch: this writes every field the texture units
-// read (position, coverage, diffuse, specular and the used coordinate sets).
+// read (position, coverage, diffuse, specular when read, and the used coordinate sets).
 template <bool kDepth, int kBlendMode>
 [[gnu::always_inline]] inline void processTexturedQuadSse(
     const DrawContext& dc, const SetupTriangle& t, const sse::Planes& planes,
@@ -73,8 +89,8 @@ template <bool kDepth, int kBlendMode>
         // processQuad multiplies by this r when perspectiveColor; by 1 (unitW) is exact.
         const bool perspective = dc.perspectiveColor && !planes.unitW;
         diffuse = sse::colors(planes, row, 0, fx, perspective, r);
-        // Without needSpecular no stage reads SPECULAR and the add is off.
-        if (dc.needSpecular) specular = sse::colors(planes, row, 4, fx, perspective, r);
+        // 4 planes loaded: nothing reads SPECULAR (specularRead).
+        if (planes.count == 8) specular = sse::colors(planes, row, 4, fx, perspective, r);
     } else {
         uint32_t bits;
         std::memcpy(&bits, &t.flatDiffuse, 4);

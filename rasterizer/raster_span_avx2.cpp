@@ -292,7 +292,8 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
         __m256i diffuse = flatDiffuse, specular = flatSpecular;
         if (dc.gouraud) {
             diffuse = colors8(c, dx, dyfy, fx, perspective, r);
-            if (dc.needSpecular) specular = colors8(c + 4, dx + 4, dyfy + 4, fx, perspective, r);
+            if (planes.count == 8)  // specularRead
+                specular = colors8(c + 4, dx + 4, dyfy + 4, fx, perspective, r);
         }
         for (int h = 0; h < 2; ++h) {
             const unsigned qc = (cov >> (4 * h)) & 0xFu;

@@ -231,7 +231,7 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
         fragment.emplace();
         tplanes.emplace().load(texPool + t.texPlanes, dc.numTexSets);
         trow.emplace();
-        planes.load(t, dc.gouraud ? (dc.needSpecular ? 8 : 4) : 0);  // 1/w: every quad
+        planes.load(t, dc.gouraud ? (specularRead(dc) ? 8 : 4) : 0);  // 1/w: every quad
     }
     // The AVX2 runs cover Gouraud colour without the specular add (raster_span_avx2.h).
     // Textured runs: any colour state.
