@@ -309,7 +309,9 @@ inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const ProgramTria
         run |= beginQuadLanes(d, t, q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qx[size_t(i)], qy[size_t(i)],
                               g.quad(i), zStore[i], c);
     if (!run) return;
+    g.beginGroup();
     fp(g);
+    g.endGroup();
     for (int i = 0; i < N; ++i) finishQuadLanes(d, qx[size_t(i)], qy[size_t(i)], g.quad(i), zStore[i], c);
 }
 

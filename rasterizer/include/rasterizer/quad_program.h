@@ -583,6 +583,8 @@ class QuadGroupContext {
 
     // ---- used by the pipeline --------------------------------------------------------------
     QuadContext& quad(int i) { return quads_[size_t(i)]; }
+    void beginGroup() {}  // the quads keep their own lanes and counts
+    void endGroup() {}
 
   private:
     // Quad by quad: filtered samplers, non-power-of-two WRAP, the reference path.

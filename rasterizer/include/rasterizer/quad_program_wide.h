@@ -262,11 +262,7 @@ class QuadGroupWideContext {
     using Vec4 = Vec4W<N>;
     static constexpr int kQuads = N;
 
-    Mask active() const {
-        Mask m;
-        for (int i = 0; i < N; ++i) m.setQuad(i, quads_[size_t(i)].active());
-        return m;
-    }
+    Mask active() const { return live_; }
     Vec4 varying(int k) const { return each([&](const QuadContext& c) { return c.varying(k); }); }
     Vec4 fragCoord() const { return each([](const QuadContext& c) { return c.fragCoord(); }); }
     [[gnu::always_inline]] Vec4 sampleLevel(int unit, const Vec4& c, const Float& lod,
@@ -291,8 +287,8 @@ class QuadGroupWideContext {
             }
             return sampleLevelQuads(unit, a);
         }
-        Mask live;
-        for (int i = 0; i < N; ++i) live.setQuad(i, Mask4(quads_[size_t(i)].liveLanes(m.quad(i))));
+        const Mask live = live_ & m;
+        for (int k = 0; k < kRegs; ++k) fetches_.r[k] -= live.r[k];  // −1 per fetching lane
         Float t, one;
         detail::nearestFetchAvx2<kRegs>(n, c.x.r, c.y.r, live.r, t.r);
         for (int k = 0; k < kRegs; ++k) one.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(F{} + 1.0f) & live.r[k]);
@@ -310,7 +306,10 @@ class QuadGroupWideContext {
         return r;
     }
     void discard(const Mask& m) {
-        for (int i = 0; i < N; ++i) quads_[size_t(i)].discard(m.quad(i));
+        for (int i = 0; i < N; ++i) {
+            quads_[size_t(i)].discard(m.quad(i));
+            live_.setQuad(i, quads_[size_t(i)].active());
+        }
     }
     void output(int target, const Vec4& color, const Mask& m = Mask::allLanes()) {
         for (int i = 0; i < N; ++i) quads_[size_t(i)].output(target, color.quad(i), m.quad(i));
@@ -318,6 +317,19 @@ class QuadGroupWideContext {
 
     // ---- used by the pipeline --------------------------------------------------------------
     QuadContext& quad(int i) { return quads_[size_t(i)]; }
+    // After the quads' begin: the group's lane masks. Before their finish: the fetches
+    // counted here, added to the quads' own.
+    void beginGroup() {
+        for (int i = 0; i < N; ++i) live_.setQuad(i, quads_[size_t(i)].active());
+        fetches_ = Mask();
+    }
+    void endGroup() {
+        for (int i = 0; i < N; ++i) {
+            alignas(16) int32_t n[4];
+            std::memcpy(n, reinterpret_cast<const char*>(fetches_.r) + 16 * i, 16);
+            for (int l = 0; l < 4; ++l) quads_[size_t(i)].fetches_[size_t(l)] += uint32_t(n[l]);
+        }
+    }
 
   private:
     // Quad by quad: filtered samplers, four-channel textures, non-power-of-two WRAP, the
@@ -347,6 +359,8 @@ class QuadGroupWideContext {
         return r;
     }
     std::array<QuadContext, N> quads_;
+    Mask live_;     // the quads' active lanes
+    Mask fetches_;  // minus the point-sampled fetches per lane since beginGroup
 };
 
 }  // namespace rg::raster
