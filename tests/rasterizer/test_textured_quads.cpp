@@ -9,7 +9,8 @@
 // textured quad kernel (rasterizer/fragment_quad_textured.h) feeds. Here triangles cover
 // the target's edges and odd sizes (quads half outside the target take the scalar
 // template, the others the kernel), tiny and full-screen triangles, flat and Gouraud
-// colour, perspective and pre-transformed vertices with varying 1/w.
+// colour, perspective and pre-transformed vertices with varying 1/w, and now and then a
+// NaN, infinite, huge or zero texture coordinate.
 //
 // Reproduce a failure: the message names the seed and draw; rerun
 //   bin/test_rasterizer --gtest_filter='PathsAgree.TexturedQuads*'
@@ -19,6 +20,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -59,6 +61,13 @@ std::shared_ptr<tex::Texture> randomTexture(Rng& r, tex::TextureMemory& mem, tex
             mem.upload(*t, l, f, bytes);
         }
     return t;
+}
+
+float weird(Rng& r) {
+    const float values[] = {std::numeric_limits<float>::quiet_NaN(),
+                            std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(), 1e30f, -1e30f, 0.0f};
+    return values[r.i(0, 5)];
 }
 
 tex::SamplerState randomSampler(Rng& r) {
@@ -248,6 +257,7 @@ uint64_t runSession(uint64_t seed, int draws) {
             v.tex[0] = {r.f(-texScale, texScale), r.f(-texScale, texScale), r.f(-2.0f, 2.0f),
                         r.p(0.8) ? 1.0f : r.f(0.5f, 2.0f)};
             v.tex[1] = {r.f(-0.5f, 1.5f), r.f(-texScale, texScale), r.f(-2.0f, 2.0f), 1.0f};
+            if (r.p(0.05)) v.tex[r.i(0, 1)][r.i(0, 3)] = weird(r);  // NaN, ±inf, huge, 0
             verts.push_back(v);
         }
         const glm::mat4 proj = glm::perspectiveLH_ZO(r.f(0.6f, 1.6f), float(w) / float(h), 0.5f, 20.0f);
