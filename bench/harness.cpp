@@ -2,6 +2,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -9,6 +10,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "core/error.h"
 
 namespace rg::bench {
 
@@ -38,7 +41,8 @@ std::string implementationOf(const std::string& name) {
     return name.substr(a + 1, b == std::string::npos ? std::string::npos : b - a - 1);
 }
 
-// Console output as usual, and a copy of each run's throughput for the ratio table.
+// Console output as usual, and a copy of each run's throughput for the ratio table: every
+// repetition's, of which median() takes the middle.
 class RatioReporter : public benchmark::ConsoleReporter {
   public:
     void ReportRuns(const std::vector<Run>& runs) override {
@@ -46,11 +50,23 @@ class RatioReporter : public benchmark::ConsoleReporter {
             if (run.error_occurred || run.run_type != Run::RT_Iteration) continue;
             auto it = run.counters.find("items_per_second");
             if (it != run.counters.end())
-                throughput[run.benchmark_name()] = double(it->second.value);
+                samples[run.benchmark_name()].push_back(double(it->second.value));
         }
         ConsoleReporter::ReportRuns(runs);
     }
-    std::map<std::string, double> throughput;
+    std::map<std::string, std::vector<double>> samples;
+
+    // The median throughput of each benchmark (the mean of the middle two for an even
+    // count): one slow repetition, a burst of load on a shared machine, moves it little.
+    std::map<std::string, double> medians() const {
+        std::map<std::string, double> out;
+        for (auto [name, v] : samples) {
+            std::sort(v.begin(), v.end());
+            const size_t n = v.size();
+            out[name] = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+        }
+        return out;
+    }
 };
 
 }  // namespace
@@ -78,6 +94,15 @@ int run(const Options& options, const char* argv0) {
     if (!filter.empty()) args.push_back("--benchmark_filter=" + filter);
     if (options.minTime > 0)
         args.push_back("--benchmark_min_time=" + std::to_string(options.minTime));
+    if (options.repetitions < 1)
+        throw Error("bench: --repetitions must be at least 1 (got " +
+                    std::to_string(options.repetitions) + ")");
+    if (options.repetitions > 1) {
+        // Ours and the peer run in a random order, repetition by repetition, so a stretch
+        // of load on the machine falls on both sides rather than on whichever ran then.
+        args.push_back("--benchmark_repetitions=" + std::to_string(options.repetitions));
+        args.push_back("--benchmark_enable_random_interleaving=true");
+    }
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     int argc = int(argv.size());
@@ -91,15 +116,16 @@ int run(const Options& options, const char* argv0) {
         return 1;
     }
 
-    // Ratio table: ours over each peer run in the same process.
+    // Ratio table: ours over each peer run in the same process, medians over repetitions.
+    const std::map<std::string, double> throughput = reporter.medians();
     nlohmann::json ratios = nlohmann::json::array();
     std::printf("\n%-60s %14s %14s %8s\n", "workload (ours vs peer)", "ours items/s",
                 "peer items/s", "ratio");
-    for (const auto& [name, ours] : reporter.throughput) {
+    for (const auto& [name, ours] : throughput) {
         if (implementationOf(name) != "retroglass") continue;
         for (const char* peer : kPeers) {
-            auto it = reporter.throughput.find(withImplementation(name, peer));
-            if (it == reporter.throughput.end() || it->second <= 0) continue;
+            auto it = throughput.find(withImplementation(name, peer));
+            if (it == throughput.end() || it->second <= 0) continue;
             double ratio = ours / it->second;
             std::printf("%-60s %14.4g %14.4g %8.2f\n", (name + " vs " + peer).c_str(), ours,
                         it->second, ratio);
@@ -117,7 +143,9 @@ int run(const Options& options, const char* argv0) {
     }
     if (!options.jsonPath.empty()) {
         nlohmann::json out;
-        out["throughput_items_per_second"] = reporter.throughput;
+        out["throughput_items_per_second"] = throughput;
+        out["repetitions"] = options.repetitions;
+        out["samples_items_per_second"] = reporter.samples;  // each repetition's, in run order
         out["ratios"] = ratios;
         out["ours_only"] = oursOnly;
         std::ofstream f(options.jsonPath);

@@ -17,6 +17,7 @@ struct Options {
     std::string filter;    // regular expression over benchmark names (empty: all)
     std::string jsonPath;  // Google Benchmark's JSON output plus our "ratios" (empty: none)
     double minTime = 0.0;  // seconds per benchmark (0: Google Benchmark's default)
+    int repetitions = 1;   // runs of each benchmark, interleaved at random; ratios of medians
     int threads = 0;       // "all threads" for the benchmarks (0: all cores)
     std::string trace;     // a captured trace: time its replay on ours and on Mesa instead
     bool referencePath = false;  // ours on the reference path (the trace benchmark only)

@@ -206,6 +206,10 @@ int main(int argc, char** argv) {
     bench->add_option("--filter", benchOptions.filter, "regular expression over benchmark names");
     bench->add_option("--json", benchOptions.jsonPath, "write throughputs and ratios as JSON");
     bench->add_option("--min-time", benchOptions.minTime, "seconds per benchmark");
+    bench->add_option("--repetitions", benchOptions.repetitions,
+                      "runs of each benchmark, ours and the peers interleaved at random; "
+                      "ratios of the medians (for a noisy machine)")
+        ->check(CLI::PositiveNumber);
     bench->add_option("--trace", benchOptions.trace,
                       "time the replay of a captured trace on ours and on Mesa llvmpipe "
                       "(ours only where Mesa lacks a feature) instead of the built-in workloads");
