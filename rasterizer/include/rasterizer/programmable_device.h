@@ -236,12 +236,17 @@ inline void finishQuadLanes(const ProgramDraw& d, int qx, int qy, const QuadCont
     c.fragmentInvocations += uint32_t(std::popcount(run));
     c.fragmentsDiscarded += uint32_t(std::popcount(discarded));
     c.fragmentsWritten += uint32_t(std::popcount(alive));
-    uint32_t fetches = 0, most = 0;
-    for (int p = 0; p < 4; ++p) {
-        const uint32_t n = ((run >> p) & 1u) ? f.fetches(p) : 0u;
-        fetches += n;
-        most = std::max(most, n);
-    }
+    // The run lanes' fetch counts: their sum and their maximum (signed compares order them,
+    // a lane's count being below 2^31).
+    const __m128i n = _mm_and_si128(f.fetchLanes(), _mm_castps_si128(Mask4::fromBits(run).v));
+    auto vmax = [](__m128i a, __m128i b) {
+        const __m128i gt = _mm_cmpgt_epi32(a, b);
+        return _mm_or_si128(_mm_and_si128(gt, a), _mm_andnot_si128(gt, b));
+    };
+    const __m128i sum2 = _mm_add_epi32(n, _mm_shuffle_epi32(n, _MM_SHUFFLE(1, 0, 3, 2)));
+    const __m128i max2 = vmax(n, _mm_shuffle_epi32(n, _MM_SHUFFLE(1, 0, 3, 2)));
+    const uint32_t fetches = uint32_t(_mm_cvtsi128_si32(_mm_add_epi32(sum2, _mm_shuffle_epi32(sum2, 0xB1))));
+    const uint32_t most = uint32_t(_mm_cvtsi128_si32(vmax(max2, _mm_shuffle_epi32(max2, 0xB1))));
     c.textureFetches += fetches;
     if (most > c.maxFetchesPerFragment) c.maxFetchesPerFragment = most;
     if (!alive) return;

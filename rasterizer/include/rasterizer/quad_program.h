@@ -301,8 +301,10 @@ class QuadContext {
         if (target < 0 || target >= kMaxColorTargets || !((setup_->declaredTargets >> target) & 1u))
             undeclaredTarget(target);
         const uint32_t lanes = m.bits() & active_ & ~discarded_;
-        const Mask4 w = Mask4::fromBits(lanes);
-        out_[size_t(target)] = select(w, color, out_[size_t(target)]);
+        if (lanes == 15)
+            out_[size_t(target)] = color;
+        else
+            out_[size_t(target)] = select(Mask4::fromBits(lanes), color, out_[size_t(target)]);
         writtenLanes_[size_t(target)] |= lanes;
     }
 
@@ -334,6 +336,7 @@ class QuadContext {
         return o;
     }
     uint32_t fetches(int lane) const { return fetches_[size_t(lane)]; }
+    __m128i fetchLanes() const { return _mm_load_si128(reinterpret_cast<const __m128i*>(fetches_.data())); }
 
   private:
     [[noreturn]] void undeclaredTarget(int target) const;
