@@ -277,6 +277,10 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
         std::memcpy(&bits, &t.flatSpecular, 4);
         flatSpecular = _mm256_set1_epi32(int(bits));
     }
+    // A compiled whole-quad cascade takes both quads as they are here, one component per
+    // 8-lane register (FragmentQuadPair), with no transposes and one call per pair.
+    const bool pairs = dc.path == Path::Fast && dc.tu->shadesPairs();
+    alignas(32) tex::FragmentQuadPair pair;
     int k = 0;
     for (; k + 1 < count; k += 2) {
         const unsigned cov = unsigned(coverage[k]) | (unsigned(coverage[k + 1]) << 4);
@@ -294,6 +298,30 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
             diffuse = colors8(c, dx, dyfy, fx, perspective, r);
             if (planes.count == 8)  // specularRead
                 specular = colors8(c + 4, dx + 4, dyfy + 4, fx, perspective, r);
+        }
+        if (pairs) {
+            pair.x = qx;
+            pair.y = qy;
+            pair.coverage = {uint8_t(cov & 0xFu), uint8_t(cov >> 4)};
+            _mm256_store_si256(reinterpret_cast<__m256i*>(pair.diffuse.data()), diffuse);
+            _mm256_store_si256(reinterpret_cast<__m256i*>(pair.specular.data()), specular);
+            for (int set = 0; set < dc.numTexSets; ++set) {
+                float(&dst)[4][8] = pair.texCoord[size_t(dc.texSets[size_t(set)])];
+                for (int a = 0; a < 4; ++a) {
+                    const int p = 4 * set + a;
+                    _mm256_store_ps(dst[a], _mm256_mul_ps(_mm256_add_ps(_mm256_add_ps(
+                                                              tc[p], _mm256_mul_ps(tdx[p], fx)),
+                                                          tdyfy[p]),
+                                                      r));
+                }
+            }
+            alignas(32) std::array<Rgba8, 8> shaded;
+            dc.tu->shadeQuadPair(pair, shaded);
+            __m256i src = _mm256_load_si256(reinterpret_cast<const __m256i*>(shaded.data()));
+            if (st.specularEnable)  // addSpecular: rgb saturate-add, alpha untouched
+                src = _mm256_adds_epu8(src, _mm256_and_si256(specular, _mm256_set1_epi32(0x00FFFFFF)));
+            pairOutputAvx2<kDepth, kBlendMode>(dc, t, qx, qy, cov, src, rc);
+            continue;
         }
         for (int h = 0; h < 2; ++h) {
             const unsigned qc = (cov >> (4 * h)) & 0xFu;

@@ -184,14 +184,12 @@ inline __m128 select(__m128 mask, __m128 a, __m128 b) {  // mask ? a : b
 
 // Coordinates of the four pixels (s, t per lane; cube: on each pixel's own face) and the
 // level choice from the biased, clamped λ — or the constant choice when λ cannot matter.
+// x, y, z, w: the four pixels' s, t, r, q (one component per register, pixel p in lane p).
 template <Target kTarget>
-[[gnu::always_inline]] inline LevelChoice projectQuad(const QuadSampler& qs,
-                                                      const std::array<glm::vec4, 4>& in,
-                                                      __m128& s, __m128& t, int face[4],
-                                                      __m128i& face4) {
-    __m128 x = _mm_loadu_ps(&in[0][0]), y = _mm_loadu_ps(&in[1][0]);
-    __m128 z = _mm_loadu_ps(&in[2][0]), w = _mm_loadu_ps(&in[3][0]);
-    _MM_TRANSPOSE4_PS(x, y, z, w);
+[[gnu::always_inline]] inline LevelChoice projectLanes(const QuadSampler& qs, __m128 x,
+                                                       __m128 y, __m128 z, __m128 w,
+                                                       __m128& s, __m128& t, int face[4],
+                                                       __m128i& face4) {
     int32_t lambda;
     if constexpr (kTarget == Target::Cube) {
         // selectCubeFace lane for lane: ties X before Y before Z (>=, false on NaN as the
@@ -229,13 +227,13 @@ template <Target kTarget>
         float s1 = lane<1>(s), t1 = lane<1>(t), s2 = lane<2>(s), t2 = lane<2>(t);
         if (face[1] != face[0]) {
             const CubeCoord cc =
-                detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[1]));
+                detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(lane<1>(x), lane<1>(y), lane<1>(z)));
             s1 = cc.s;
             t1 = cc.t;
         }
         if (face[2] != face[0]) {
             const CubeCoord cc =
-                detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(in[2]));
+                detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(lane<2>(x), lane<2>(y), lane<2>(z)));
             s2 = cc.s;
             t2 = cc.t;
         }
@@ -260,6 +258,17 @@ template <Target kTarget>
     }
     return chooseLevelsInline(qs.levels,
                               std::clamp(lambda + qs.lodBias, qs.lodMin, qs.lodMax));
+}
+// The same from a FragmentQuad's coordinate set (per pixel (s, t, r, q)), transposed.
+template <Target kTarget>
+[[gnu::always_inline]] inline LevelChoice projectQuad(const QuadSampler& qs,
+                                                      const std::array<glm::vec4, 4>& in,
+                                                      __m128& s, __m128& t, int face[4],
+                                                      __m128i& face4) {
+    __m128 x = _mm_loadu_ps(&in[0][0]), y = _mm_loadu_ps(&in[1][0]);
+    __m128 z = _mm_loadu_ps(&in[2][0]), w = _mm_loadu_ps(&in[3][0]);
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    return projectLanes<kTarget>(qs, x, y, z, w, s, t, face, face4);
 }
 
 // Phase 1 of a kernel: everything that depends on the coordinates and the texture's
@@ -683,6 +692,76 @@ RG_AVX2 uint64_t cascadeTwo(const CompiledStages& c, const FragmentQuad& q, __m1
     out = r[arg::Current];
     return n;
 }
+// ---- whole cascades of a FragmentQuadPair ------------------------------------------------
+// cascadeStage for quad h of the pair: its coordinates read as the four component rows
+// projectQuad would transpose them into (lanes 4h..4h+3), the rest the same code.
+template <Target kT, Addr kS, Addr kU, bool kTexCur>
+[[gnu::always_inline]] RG_AVX2 inline uint64_t cascadeStageOfPair(const CompiledStages& c,
+                                                                  int i,
+                                                                  const FragmentQuadPair& p,
+                                                                  int h, quad::Regs& r) {
+    const QuadSampler& qs = c.stage[size_t(i)];
+    const StageState& st = c.state[size_t(i)];
+    const float(&tc)[4][8] = p.texCoord[st.texCoordIndex];
+    __m128 s, t;
+    int face[4];
+    __m128i face4;
+    const LevelChoice ch =
+        projectLanes<kT>(qs, _mm_load_ps(&tc[0][4 * h]), _mm_load_ps(&tc[1][4 * h]),
+                         _mm_load_ps(&tc[2][4 * h]), _mm_load_ps(&tc[3][4 * h]), s, t, face,
+                         face4);
+    QuadFootprint fp;
+    const uint64_t n = prepareLevelsAvx2<kT, kS, kU>(qs, ch, s, t, face4, fp);
+    r[arg::Texture] = gatherQuadAvx2<kT != Target::OneD>(qs, fp);
+    if constexpr (kTexCur)
+        r[arg::Current] = quad::mulDiv255(r[arg::Texture], r[arg::Current]);
+    else
+        r[arg::Current] = quad::evaluate<TextureOp::Modulate, TextureOp::Modulate>(st, r);
+    return n;
+}
+template <bool kTexCur>
+[[gnu::always_inline]] inline quad::Regs cascadeInputsOfPair(const FragmentQuadPair& p, int h,
+                                                             __m128i tfactor) {
+    quad::Regs r;
+    r[arg::Diffuse] = _mm_load_si128(reinterpret_cast<const __m128i*>(p.diffuse.data() + 4 * h));
+    r[arg::Current] = r[arg::Diffuse];
+    if constexpr (!kTexCur) {
+        r[arg::Specular] =
+            _mm_load_si128(reinterpret_cast<const __m128i*>(p.specular.data() + 4 * h));
+        r[arg::TFactor] = tfactor;
+    }
+    return r;
+}
+// Both quads in one body (no call or counter update between them), so the out-of-order
+// core overlaps the second quad's chain with the first's.
+template <Target kT, Addr kS, Addr kU, bool kTexCur>
+RG_AVX2 uint64_t cascadePairOne(const CompiledStages& c, const FragmentQuadPair& p,
+                                __m128i tfactor, __m128i out[2]) {
+    uint64_t n = 0;
+    for (int h = 0; h < 2; ++h) {
+        out[h] = _mm_setzero_si128();
+        if (!p.coverage[size_t(h)]) continue;
+        quad::Regs r = cascadeInputsOfPair<kTexCur>(p, h, tfactor);
+        n += cascadeStageOfPair<kT, kS, kU, kTexCur>(c, 0, p, h, r);
+        out[h] = r[arg::Current];
+    }
+    return n;
+}
+template <Target kT0, Addr kS0, Addr kU0, Target kT1, Addr kS1, Addr kU1, bool kTexCur>
+RG_AVX2 uint64_t cascadePairTwo(const CompiledStages& c, const FragmentQuadPair& p,
+                                __m128i tfactor, __m128i out[2]) {
+    uint64_t n = 0;
+    for (int h = 0; h < 2; ++h) {
+        out[h] = _mm_setzero_si128();
+        if (!p.coverage[size_t(h)]) continue;
+        quad::Regs r = cascadeInputsOfPair<kTexCur>(p, h, tfactor);
+        n += cascadeStageOfPair<kT0, kS0, kU0, kTexCur>(c, 0, p, h, r);
+        n += cascadeStageOfPair<kT1, kS1, kU1, kTexCur>(c, 1, p, h, r);
+        out[h] = r[arg::Current];
+    }
+    return n;
+}
+
 // True when every one of the `active` stages is MODULATE(TEXTURE, CURRENT) for colour and
 // alpha with no scale (cascadeStage's kTexCur).
 bool texCurOnly(const CompiledStages& c, int active) {
@@ -735,6 +814,7 @@ void pick(QuadSampler& q, Addr s, Addr t) {
 
 void compileCascade(CompiledStages& c, int active, uint32_t sampling) {
     c.cascade = nullptr;
+    c.cascadePair = nullptr;
     if (active < 1 || active > 2 || c.sharesFootprint != 0) return;
     for (int i = 0; i < active; ++i) {
         const StageState& st = c.state[size_t(i)];
@@ -747,6 +827,8 @@ void compileCascade(CompiledStages& c, int active, uint32_t sampling) {
     const bool texCur = texCurOnly(c, active);
     auto one = [&]<Target kT, Addr kS, Addr kU>() {
         c.cascade = texCur ? &cascadeOne<kT, kS, kU, true> : &cascadeOne<kT, kS, kU, false>;
+        c.cascadePair =
+            texCur ? &cascadePairOne<kT, kS, kU, true> : &cascadePairOne<kT, kS, kU, false>;
     };
     if (active == 1) {
         if (f0 == &sampleQuadKernelAvx2<Target::TwoD, Addr::Pow2, Addr::Pow2>)
@@ -758,11 +840,16 @@ void compileCascade(CompiledStages& c, int active, uint32_t sampling) {
         return;
     }
     if (f0 == &sampleQuadKernelAvx2<Target::Cube, Addr::Edge, Addr::Edge> &&
-        c.stage[1].fn == &sampleQuadKernelAvx2<Target::OneD, Addr::Edge, Addr::Edge>)
+        c.stage[1].fn == &sampleQuadKernelAvx2<Target::OneD, Addr::Edge, Addr::Edge>) {
         c.cascade = texCur ? &cascadeTwo<Target::Cube, Addr::Edge, Addr::Edge, Target::OneD,
                                          Addr::Edge, Addr::Edge, true>
                            : &cascadeTwo<Target::Cube, Addr::Edge, Addr::Edge, Target::OneD,
                                          Addr::Edge, Addr::Edge, false>;
+        c.cascadePair = texCur ? &cascadePairTwo<Target::Cube, Addr::Edge, Addr::Edge,
+                                                 Target::OneD, Addr::Edge, Addr::Edge, true>
+                               : &cascadePairTwo<Target::Cube, Addr::Edge, Addr::Edge,
+                                                 Target::OneD, Addr::Edge, Addr::Edge, false>;
+    }
 }
 
 bool sameFootprint(const QuadSampler& a, const QuadSampler& b) {

@@ -89,6 +89,11 @@ struct CompiledStages;
 using CascadeFn = uint64_t (*)(const CompiledStages&, const FragmentQuad& quad,
                                __m128i tfactor, __m128i& out);
 
+// The same cascade for both quads of a FragmentQuadPair; `out[h]` quad h's colours (zero
+// without coverage). Returns the fetches of the covered quads.
+using CascadePairFn = uint64_t (*)(const CompiledStages&, const FragmentQuadPair& pair,
+                                   __m128i tfactor, __m128i out[2]);
+
 // The compiled samplers of all stages (TextureUnits holds one, rebuilt by its setters).
 struct CompiledStages {
     std::array<QuadSampler, 16> stage{};
@@ -99,6 +104,7 @@ struct CompiledStages {
     uint32_t sharesFootprint = 0;
     std::array<StageState, 16> state{};  // the stages' states (for `cascade`)
     CascadeFn cascade = nullptr;         // null: TextureUnits::shadeQuad's general loop
+    CascadePairFn cascadePair = nullptr;  // set with `cascade`
 };
 
 // Sets c.cascade when the `active` stages (c.state, c.stage, c.stageKernel filled) are one

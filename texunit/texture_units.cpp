@@ -376,6 +376,16 @@ std::array<Rgba8, 4> TextureUnits::sampleStage(int stage, const FragmentQuad& qu
     return out;
 }
 
+bool TextureUnits::shadesPairs() const { return compiled_->cascadePair != nullptr; }
+
+void TextureUnits::shadeQuadPair(const FragmentQuadPair& pair, std::array<Rgba8, 8>& out) const {
+    const detail::CompiledStages& compiled = *compiled_;
+    __m128i o[2];
+    fetches_->add(compiled.cascadePair(compiled, pair, detail::quad::splat(tfactor_), o));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out.data()), o[0]);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out.data() + 4), o[1]);
+}
+
 void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out, Path path) const {
     const int n = active_;
     if (path == Path::Fast) {

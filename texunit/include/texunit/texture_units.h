@@ -61,6 +61,18 @@ struct FragmentQuad {
     std::array<std::array<glm::vec4, 4>, kMaxTexCoordSets> texCoord{};
 };
 
+// Two quads side by side as the AVX2 rasterizer computes them, one component per
+// 8-lane row: lanes 0–3 are quad 0's pixels 0–3, lanes 4–7 quad 1's (at x + 2). The
+// same values as two FragmentQuads, without the transposes to and from per-pixel vectors.
+struct FragmentQuadPair {
+    int x = 0, y = 0;
+    std::array<uint8_t, 2> coverage{};  // a quad without coverage is not shaded
+    alignas(32) std::array<Rgba8, 8> diffuse{};
+    alignas(32) std::array<Rgba8, 8> specular{};
+    // [set][component][lane]: s, t, r, q, interpolated perspective-correctly; no divide.
+    alignas(32) float texCoord[kMaxTexCoordSets][4][8];
+};
+
 // Per-frame texture counters (reset by the device with its own counters).
 struct TextureCounters {
     uint64_t texelFetches = 0;
@@ -86,6 +98,11 @@ class TextureUnits {
     glm::vec4 processVertexTexCoord(int set, const VertexEye& v, const glm::vec4& in) const;
     // Per quad: the stage cascade. `out` receives the RGBA8 colour of all 4 pixels.
     void shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out, Path path) const;
+    // Whether shadeQuadPair serves the current state (a compiled whole-quad cascade).
+    bool shadesPairs() const;
+    // The fast path's shadeQuad of both quads of `pair` (only when shadesPairs()): the same
+    // bytes and fetch counts; out[4h..4h+3] quad h's colours (zeros when it has no coverage).
+    void shadeQuadPair(const FragmentQuadPair& pair, std::array<Rgba8, 8>& out) const;
     // Pixel transfer of one row (SGIX_pixel_texture when enabled; identity otherwise).
     void applyPixelTransfer(std::span<Rgba8> pixels) const;
 
