@@ -1,6 +1,7 @@
 // raycore benchmarks: Mrays/s of our ray casting path (rg::ray::Accel: ray set-up, Embree
-// traversal, hit resolved to a SurfacePoint — what every tracer does per ray; packets and
-// streams resolve their hits as a batch: Accel::surfaces, Accel::intersectStreamSurfaces)
+// traversal, hit resolved to a SurfacePoint — what every tracer does per ray; single rays
+// in one call, Accel::intersectSurface; packets and streams resolve their hits as a batch:
+// Accel::surfaces, Accel::intersectStreamSurfaces)
 // beside a bare
 // Embree loop on the very same rays with no shading, in the same run.
 // Names follow bench/harness.h: <workload>/<retroglass|embree>/<layout>/threads:N, with
@@ -111,9 +112,13 @@ void runRetroglass(benchmark::State& state, bool secondary, Layout layout, int t
         forChunks(rays.size(), threads, [&](size_t begin, size_t end) {
             float sink = 0.0f;
             if (layout == Layout::Single) {
+                // Traced and resolved in one call, the Hit kept beside the point
+                // (Accel::intersectSurface), as the PEM layers and the two-term tracer's
+                // primary rays do.
                 for (size_t i = begin; i < end; ++i) {
-                    const Hit h = accel.intersect(rays[i]);
-                    if (h.valid()) sink += accel.surface(rays[i], h).ns.x;
+                    Hit h;
+                    const rg::ray::SurfacePoint s = accel.intersectSurface(rays[i], h);
+                    if (h.valid()) sink += s.ns.x;
                 }
             } else if (layout == Layout::Stream) {
                 // A stream traced and its hits resolved as a batch straight from Embree's

@@ -89,8 +89,8 @@ PemLayerImages renderPemLayers(const Accel& accel, const Camera& camera, const R
                     glm::vec2 f = samplePosition(x, y, sx, sy, n);
                     Ray ray = primaryRay(camera, o.width, o.height, f.x, f.y);
                     counts.add(RayKind::Primary);
-                    Hit hit = accel.intersect(ray);
-                    SurfacePoint s = accel.surface(ray, hit);
+                    Hit hit;
+                    SurfacePoint s = accel.intersectSurface(ray, hit);
                     int k = hit.valid() ? segmentOf(s) : -1;
                     if (sx == n / 2 && sy == n / 2) centreSegment = k;
                     if (k < 0) {

@@ -87,12 +87,12 @@ void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEv
 TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, int maxDepth,
                            RayCounts& counts) {
     TwoTermSample out;
-    Hit hit = accel.intersect(primary);
+    Hit hit;
+    SurfacePoint s = accel.intersectSurface(primary, hit);
     if (!hit.valid()) {
         out.direct = accel.scene().environment.lookup(primary.dir);
         return out;
     }
-    SurfacePoint s = accel.surface(primary, hit);
     const Material& m = *s.material;
     if (m.type == MaterialType::Diffuse || maxDepth <= 0) {
         out.direct = whittedShade(accel, primary, hit, 0, maxDepth, counts);

@@ -340,5 +340,59 @@ TEST(Accel, StreamSurfacesMatchStreamThenSurface) {
     }
 }
 
+// intersectSurface (trace and resolve from Embree's record in one call; with the Hit too)
+// against intersect() then surface(), bit for bit: camera rays, random rays from inside and around the room
+// every way (front and back faces, every part), rays from far outside pointing away
+// (misses), and rays with a random short tfar (hits cut off, so misses of every kind).
+TEST(Accel, IntersectSurfaceMatchesIntersectThenSurface) {
+    Scene s = makeBuiltinScene("teapot-in-room");
+    Accel accel(s);
+    const Camera cam = s.viewpointPaths[0].at(0);
+    std::vector<Ray> rays;
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) rays.push_back(primaryRay(cam, 40, 30, x + 0.5f, y + 0.5f));
+    uint32_t state = 4242u;
+    auto bits = [&] {  // xorshift: fixed sequence
+        state ^= state << 13, state ^= state >> 17, state ^= state << 5;
+        return state;
+    };
+    auto unit = [&] { return float(bits() >> 8) / 16777216.0f; };
+    for (int i = 0; i < 5000; ++i) {
+        Ray r;
+        const bool outside = i % 11 == 0;
+        r.origin = outside ? glm::vec3(0.0f, 1.0f, 1000.0f)
+                           : glm::vec3(6.0f * unit() - 3.0f, 4.5f * unit() - 0.5f, 6.0f * unit() - 3.0f);
+        glm::vec3 d(unit() - 0.5f, unit() - 0.5f, unit() - 0.5f);
+        if (outside) d.z = std::abs(d.z) + 0.1f;
+        r.dir = glm::normalize(d + 1e-6f);
+        if (i % 7 == 0) r.tfar = 2.0f * unit();
+        rays.push_back(r);
+    }
+    int misses = 0, back = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const Hit h = accel.intersect(rays[i]);
+        Hit h2;
+        h2.t = -1.0f;  // must be overwritten, on a miss too
+        const SurfacePoint a = accel.surface(rays[i], h), b = accel.intersectSurface(rays[i]);
+        const SurfacePoint c = accel.intersectSurface(rays[i], h2);
+        EXPECT_EQ(std::memcmp(&h, &h2, sizeof h), 0) << i;  // Hit has no padding
+        misses += !h.valid();
+        back += h.valid() && !a.frontFace;
+        for (const SurfacePoint* fused : {&b, &c}) {
+            EXPECT_EQ(std::memcmp(&a.p, &fused->p, sizeof a.p), 0) << i;
+            EXPECT_EQ(std::memcmp(&a.ng, &fused->ng, sizeof a.ng), 0) << i;
+            EXPECT_EQ(std::memcmp(&a.ns, &fused->ns, sizeof a.ns), 0) << i;
+            EXPECT_EQ(std::memcmp(&a.uv, &fused->uv, sizeof a.uv), 0) << i;
+            EXPECT_EQ(a.frontFace, fused->frontFace) << i;
+            EXPECT_EQ(a.object, fused->object) << i;
+            EXPECT_EQ(a.triangle, fused->triangle) << i;
+            EXPECT_EQ(a.part, fused->part) << i;
+            EXPECT_EQ(a.material, fused->material) << i;
+        }
+    }
+    EXPECT_GT(misses, 100) << "misses not exercised";
+    EXPECT_GT(back, 100) << "back faces not exercised";
+}
+
 }  // namespace
 }  // namespace rg::ray

@@ -67,6 +67,12 @@ class Accel {
     void intersectStreamSurfaces(const Ray* rays, SurfacePoint* out, size_t count, bool coherent) const;
 
     SurfacePoint surface(const Ray& ray, const Hit& hit) const;
+    // intersect() then surface() in one call, resolved straight from Embree's ray record
+    // (no Hit between them): the same SurfacePoint bit for bit (tests/raycore/test_accel.cpp);
+    // a miss gives SurfacePoint(). The second form also sets `hit` to what intersect()
+    // returns, for callers that pass the Hit on.
+    SurfacePoint intersectSurface(const Ray& ray) const;
+    SurfacePoint intersectSurface(const Ray& ray, Hit& hit) const;
     // surface() of n hits at once, for streams and packets: the same values bit for bit
     // (tests/raycore/test_accel.cpp), four hits to the SSE lanes, so that four normals'
     // square roots and divisions overlap instead of following one another.
@@ -105,6 +111,12 @@ class Accel {
         std::vector<glm::vec3> faceNormals;  // unit geometric normal per triangle, world space
         const Material* material = nullptr;
     };
+    // surface()'s arithmetic for a hit on (object, triangle), shared by surface() and
+    // intersectSurface() so that both do the same operations in the same order.
+    SurfacePoint resolve(const glm::vec3& origin, const glm::vec3& dir, float t, float u, float v,
+                         uint32_t object, uint32_t triangle) const;
+    // Both intersectSurface(): hitOut (may be null) gets intersect()'s Hit.
+    SurfacePoint traceAndResolve(const Ray& ray, Hit* hitOut) const;
     // intersectStreamSurfaces' AVX2 kernel: surfaces() of n records Embree has filled.
     void resolveStreamAvx2(const RTCRayHit* rh, SurfacePoint* out, size_t n) const;
     const Scene& scene_;
