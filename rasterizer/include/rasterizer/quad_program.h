@@ -392,13 +392,14 @@ struct MaskQ {
         m.q.fill(Mask4::fromBits(15));
         return m;
     }
-    uint32_t bits() const {
-        uint32_t b = 0;
-        for (int i = 0; i < N; ++i) b |= q[size_t(i)].bits() << (4 * i);
+    static_assert(4 * N <= 64, "a group's lanes fit the 64 bits of bits()");
+    uint64_t bits() const {  // bit 4i + j: lane j of quad i
+        uint64_t b = 0;
+        for (int i = 0; i < N; ++i) b |= uint64_t(q[size_t(i)].bits()) << (4 * i);
         return b;
     }
     bool any() const { return bits() != 0; }
-    bool all() const { return bits() == (uint32_t(1) << (4 * N)) - 1u; }
+    bool all() const { return bits() == ~uint64_t(0) >> (64 - 4 * N); }
     template <class Op>
     static MaskQ zip(const MaskQ& a, const MaskQ& b, Op op) {
         MaskQ r;

@@ -42,14 +42,15 @@ struct MaskW {
         for (auto& x : m.r) x = x == x;  // all ones
         return m;
     }
-    uint32_t bits() const {
-        uint32_t b = 0;
+    static_assert(4 * N <= 64, "a group's lanes fit the 64 bits of bits()");
+    uint64_t bits() const {  // bit 4i + j: lane j of quad i
+        uint64_t b = 0;
         for (int k = 0; k < kRegs; ++k)
-            for (int i = 0; i < 8; ++i) b |= uint32_t(r[k][i] & 1) << (8 * k + i);
+            for (int i = 0; i < 8; ++i) b |= uint64_t(r[k][i] & 1) << (8 * k + i);
         return b;
     }
     bool any() const { return bits() != 0; }
-    bool all() const { return bits() == (uint32_t(1) << (4 * N)) - 1u; }
+    bool all() const { return bits() == ~uint64_t(0) >> (64 - 4 * N); }
     Mask4 quad(int i) const {
         __m128 q;
         std::memcpy(&q, reinterpret_cast<const char*>(r) + 16 * i, 16);
