@@ -56,6 +56,27 @@ void setRay(RTCRay& ray, const Ray& r) {
 // (checked by Accel.RayAtUnitSphereHitsAtTheKnownDistance).
 inline glm::vec3 outwardNg(float x, float y, float z) { return {x, y, z}; }
 
+// The Hit of a record rtcIntersect1 has just filled, every float read by a 4-byte load of
+// its own. Embree writes tfar, Ng_x, Ng_y, Ng_z, u and v as separate 4-byte stores; left
+// alone, GCC reads neighbours as 8-byte pairs ((tfar, mask), (Ng_x, Ng_y), (Ng_z, u)), and
+// a load spanning two stores cannot be forwarded from the store buffer: it waits for both
+// to retire (perf: a quarter of intersectSurface's samples; bench single/threads:1 ratio
+// 0.80 -> 0.82). The empty asm takes each value in a register of its own, so the compiler
+// cannot merge the loads; the values are the same.
+inline Hit hitOfRecord(const RTCRayHit& rh) {
+    float t = rh.ray.tfar, u = rh.hit.u, v = rh.hit.v;
+    float nx = rh.hit.Ng_x, ny = rh.hit.Ng_y, nz = rh.hit.Ng_z;
+    asm("" : "+x"(t), "+x"(u), "+x"(v), "+x"(nx), "+x"(ny), "+x"(nz));
+    Hit h;
+    h.t = t;
+    h.u = u;
+    h.v = v;
+    h.object = rh.hit.geomID;
+    h.triangle = rh.hit.primID;
+    h.ng = outwardNg(nx, ny, nz);
+    return h;
+}
+
 struct CollectContext {
     RTCIntersectContext context;  // first member: Embree passes a pointer to it
     std::vector<Hit>* hits;
@@ -162,15 +183,8 @@ Hit Accel::intersect(const Ray& ray) const {
     alignas(16) RTCRayHit rh;
     setRay(rh, ray);
     rtcIntersect1(rtcScene_, &ctx, &rh);
-    Hit h;
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
-    h.t = rh.ray.tfar;
-    h.u = rh.hit.u;
-    h.v = rh.hit.v;
-    h.object = rh.hit.geomID;
-    h.triangle = rh.hit.primID;
-    h.ng = outwardNg(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-    return h;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return Hit();
+    return hitOfRecord(rh);
 }
 
 bool Accel::occluded(const Ray& ray) const {
@@ -235,16 +249,7 @@ void Accel::intersect16(const Ray* rays, Hit* hits, int count) const {
 namespace {
 
 Hit hitOf(const RTCRayHit& rh) {
-    Hit h;
-    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-        h.t = rh.ray.tfar;
-        h.u = rh.hit.u;
-        h.v = rh.hit.v;
-        h.object = rh.hit.geomID;
-        h.triangle = rh.hit.primID;
-        h.ng = outwardNg(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-    }
-    return h;
+    return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? hitOfRecord(rh) : Hit();
 }
 
 constexpr size_t kStreamBatch = 256;
@@ -332,23 +337,9 @@ __attribute__((always_inline)) inline SurfacePoint Accel::traceAndResolve(const 
         if (hitOut) *hitOut = Hit();
         return SurfacePoint();
     }
-    // Each field read by a 4-byte load of its own: left alone, GCC reads (tfar, mask) and
-    // (Ng_z, u) as 8-byte pairs, and a load spanning two of Embree's stores (or one of
-    // Embree's and one of setRay's) cannot be forwarded from the store buffer: it waits
-    // for both stores to retire (perf: a quarter of this function's samples; bench
-    // single/threads:1 ratio 0.80 -> 0.82). The empty asm takes each value in a register,
-    // so the compiler cannot merge the loads.
-    float t = rh.ray.tfar, u = rh.hit.u, v = rh.hit.v;
-    asm("" : "+x"(t), "+x"(u), "+x"(v));
-    if (hitOut) {
-        hitOut->t = t;
-        hitOut->u = u;
-        hitOut->v = v;
-        hitOut->object = rh.hit.geomID;
-        hitOut->triangle = rh.hit.primID;
-        hitOut->ng = outwardNg(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-    }
-    return resolve(ray.origin, ray.dir, t, u, v, rh.hit.geomID, rh.hit.primID);
+    const Hit h = hitOfRecord(rh);  // without hitOut, only its ng goes unused
+    if (hitOut) *hitOut = h;
+    return resolve(ray.origin, ray.dir, h.t, h.u, h.v, h.object, h.triangle);
 }
 
 SurfacePoint Accel::intersectSurface(const Ray& ray) const { return traceAndResolve(ray, nullptr); }
