@@ -281,6 +281,7 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
     // 8-lane register (FragmentQuadPair), with no transposes and one call per pair.
     const bool pairs = dc.path == Path::Fast && dc.tu->shadesPairs();
     alignas(32) tex::FragmentQuadPair pair;
+    uint64_t fetched = 0;  // of the pairs, added to the texture units' counter at the end
     int k = 0;
     for (; k + 1 < count; k += 2) {
         const unsigned cov = unsigned(coverage[k]) | (unsigned(coverage[k + 1]) << 4);
@@ -316,8 +317,12 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
                 }
             }
             alignas(32) std::array<Rgba8, 8> shaded;
-            dc.tu->shadeQuadPair(pair, shaded);
-            __m256i src = _mm256_load_si256(reinterpret_cast<const __m256i*>(shaded.data()));
+            fetched += dc.tu->shadeQuadPair(pair, shaded);
+            // Two 16-byte loads, as the cascade stored them (a 32-byte load would miss
+            // store forwarding).
+            __m256i src = _mm256_set_m128i(
+                _mm_load_si128(reinterpret_cast<const __m128i*>(shaded.data() + 4)),
+                _mm_load_si128(reinterpret_cast<const __m128i*>(shaded.data())));
             if (st.specularEnable)  // addSpecular: rgb saturate-add, alpha untouched
                 src = _mm256_adds_epu8(src, _mm256_and_si256(specular, _mm256_set1_epi32(0x00FFFFFF)));
             pairOutputAvx2<kDepth, kBlendMode>(dc, t, qx, qy, cov, src, rc);
@@ -361,6 +366,7 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
             src = _mm256_adds_epu8(src, _mm256_and_si256(specular, _mm256_set1_epi32(0x00FFFFFF)));
         pairOutputAvx2<kDepth, kBlendMode>(dc, t, qx, qy, cov, src, rc);
     }
+    dc.tu->addFetches(fetched);
     if (k < count && coverage[k])
         processTexturedQuadSse<kDepth, kBlendMode>(dc, t, planes, row, tplanes, trow,
                                                    qx0 + 2 * k, qy, coverage[k], q[0], rc);

@@ -736,28 +736,34 @@ template <bool kTexCur>
 // core overlaps the second quad's chain with the first's.
 template <Target kT, Addr kS, Addr kU, bool kTexCur>
 RG_AVX2 uint64_t cascadePairOne(const CompiledStages& c, const FragmentQuadPair& p,
-                                __m128i tfactor, __m128i out[2]) {
+                                __m128i tfactor, Rgba8* out) {
     uint64_t n = 0;
     for (int h = 0; h < 2; ++h) {
-        out[h] = _mm_setzero_si128();
-        if (!p.coverage[size_t(h)]) continue;
+        __m128i* dst = reinterpret_cast<__m128i*>(out + 4 * h);
+        if (!p.coverage[size_t(h)]) {
+            _mm_storeu_si128(dst, _mm_setzero_si128());
+            continue;
+        }
         quad::Regs r = cascadeInputsOfPair<kTexCur>(p, h, tfactor);
         n += cascadeStageOfPair<kT, kS, kU, kTexCur>(c, 0, p, h, r);
-        out[h] = r[arg::Current];
+        _mm_storeu_si128(dst, r[arg::Current]);
     }
     return n;
 }
 template <Target kT0, Addr kS0, Addr kU0, Target kT1, Addr kS1, Addr kU1, bool kTexCur>
 RG_AVX2 uint64_t cascadePairTwo(const CompiledStages& c, const FragmentQuadPair& p,
-                                __m128i tfactor, __m128i out[2]) {
+                                __m128i tfactor, Rgba8* out) {
     uint64_t n = 0;
     for (int h = 0; h < 2; ++h) {
-        out[h] = _mm_setzero_si128();
-        if (!p.coverage[size_t(h)]) continue;
+        __m128i* dst = reinterpret_cast<__m128i*>(out + 4 * h);
+        if (!p.coverage[size_t(h)]) {
+            _mm_storeu_si128(dst, _mm_setzero_si128());
+            continue;
+        }
         quad::Regs r = cascadeInputsOfPair<kTexCur>(p, h, tfactor);
         n += cascadeStageOfPair<kT0, kS0, kU0, kTexCur>(c, 0, p, h, r);
         n += cascadeStageOfPair<kT1, kS1, kU1, kTexCur>(c, 1, p, h, r);
-        out[h] = r[arg::Current];
+        _mm_storeu_si128(dst, r[arg::Current]);
     }
     return n;
 }

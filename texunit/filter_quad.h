@@ -89,10 +89,11 @@ struct CompiledStages;
 using CascadeFn = uint64_t (*)(const CompiledStages&, const FragmentQuad& quad,
                                __m128i tfactor, __m128i& out);
 
-// The same cascade for both quads of a FragmentQuadPair; `out[h]` quad h's colours (zero
-// without coverage). Returns the fetches of the covered quads.
+// The same cascade for both quads of a FragmentQuadPair; out[4h..4h+3] quad h's colours
+// (zero without coverage), each quad one 16-byte store. Returns the fetches of the covered
+// quads.
 using CascadePairFn = uint64_t (*)(const CompiledStages&, const FragmentQuadPair& pair,
-                                   __m128i tfactor, __m128i out[2]);
+                                   __m128i tfactor, Rgba8* out);
 
 // The compiled samplers of all stages (TextureUnits holds one, rebuilt by its setters).
 struct CompiledStages {

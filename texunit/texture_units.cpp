@@ -378,12 +378,12 @@ std::array<Rgba8, 4> TextureUnits::sampleStage(int stage, const FragmentQuad& qu
 
 bool TextureUnits::shadesPairs() const { return compiled_->cascadePair != nullptr; }
 
-void TextureUnits::shadeQuadPair(const FragmentQuadPair& pair, std::array<Rgba8, 8>& out) const {
+uint64_t TextureUnits::shadeQuadPair(const FragmentQuadPair& pair, std::array<Rgba8, 8>& out) const {
     const detail::CompiledStages& compiled = *compiled_;
-    __m128i o[2];
-    fetches_->add(compiled.cascadePair(compiled, pair, detail::quad::splat(tfactor_), o));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out.data()), o[0]);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out.data() + 4), o[1]);
+    return compiled.cascadePair(compiled, pair, detail::quad::splat(tfactor_), out.data());
+}
+void TextureUnits::addFetches(uint64_t n) const {
+    if (n) fetches_->add(n);
 }
 
 void TextureUnits::shadeQuad(const FragmentQuad& quad, std::array<Rgba8, 4>& out, Path path) const {

@@ -101,8 +101,11 @@ class TextureUnits {
     // Whether shadeQuadPair serves the current state (a compiled whole-quad cascade).
     bool shadesPairs() const;
     // The fast path's shadeQuad of both quads of `pair` (only when shadesPairs()): the same
-    // bytes and fetch counts; out[4h..4h+3] quad h's colours (zeros when it has no coverage).
-    void shadeQuadPair(const FragmentQuadPair& pair, std::array<Rgba8, 8>& out) const;
+    // bytes; out[4h..4h+3] quad h's colours (zeros when it has no coverage). Returns the
+    // texel fetches, which the caller hands to addFetches (once per run of pairs: the
+    // counter's per-thread shard is a thread_local lookup).
+    uint64_t shadeQuadPair(const FragmentQuadPair& pair, std::array<Rgba8, 8>& out) const;
+    void addFetches(uint64_t n) const;
     // Pixel transfer of one row (SGIX_pixel_texture when enabled; identity otherwise).
     void applyPixelTransfer(std::span<Rgba8> pixels) const;
 
