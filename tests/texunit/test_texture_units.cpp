@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <tuple>
@@ -489,7 +490,7 @@ TEST(TextureUnits, SharedFootprintsMatchReference) {
 // filters, mipmap modes and coordinate sets; plus near misses that must take the general
 // loop (another op, a third stage). Bytes and fetch counts against the reference, under
 // both instruction sets.
-void cascadesAgainstReference() {
+void cascadesAgainstReference(int& pairs) {  // pairs: how many shadeQuadPair calls compared
     const Profile& g8 = profile(ProfileId::GeForce8800);
     auto mem = std::make_shared<TextureMemory>(g8);
     auto texel = [](int l, int f, int x, int y, int, int) {
@@ -535,6 +536,11 @@ void cascadesAgainstReference() {
         }
         tu.setTextureFactor({uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next())});
         uint64_t refFetches = 0, fastFetches = 0;
+        // shadeQuadPair (the AVX2 rasterizer's entry, when a cascade is compiled): each two
+        // consecutive quads as one pair, a random one of them without coverage now and then.
+        FragmentQuadPair pair;
+        std::array<Rgba8, 4> pairRef[2];
+        uint64_t pairRefFetches[2] = {0, 0};
         for (int k = 0; k < 40; ++k) {
             FragmentQuad q;
             const float scale = rng.below(10) == 0 ? 0.0f : std::exp2(rng.uniform(-9, 2));
@@ -559,6 +565,34 @@ void cascadesAgainstReference() {
             tu.shadeQuad(q, fast, Path::Fast);
             fastFetches += tu.counters().texelFetches;
             ASSERT_EQ(ref, fast) << "state " << stateI << " quad " << k << " (seed 4242)";
+            if (!tu.shadesPairs()) continue;
+            const int h = k & 1;
+            pairRef[h] = ref;
+            pairRefFetches[h] = tu.counters().texelFetches;
+            for (int set = 0; set < 2; ++set)
+                for (int p = 0; p < 4; ++p)
+                    for (int c = 0; c < 4; ++c)
+                        pair.texCoord[set][c][4 * h + p] = q.texCoord[size_t(set)][size_t(p)][c];
+            for (int p = 0; p < 4; ++p) {
+                pair.diffuse[size_t(4 * h + p)] = q.diffuse[size_t(p)];
+                pair.specular[size_t(4 * h + p)] = q.specular[size_t(p)];
+            }
+            if (h == 0) continue;
+            const uint32_t empty = rng.below(6);  // 0 or 1: that quad has no coverage
+            pair.coverage = {uint8_t(empty == 0 ? 0 : 1 + rng.below(15)),
+                             uint8_t(empty == 1 ? 0 : 1 + rng.below(15))};
+            std::array<Rgba8, 8> both;
+            const uint64_t n = tu.shadeQuadPair(pair, both);
+            uint64_t expected = 0;
+            for (int g = 0; g < 2; ++g) {
+                if (!pair.coverage[size_t(g)]) continue;
+                expected += pairRefFetches[g];
+                const std::array<Rgba8, 4> got{both[size_t(4 * g)], both[size_t(4 * g + 1)],
+                                               both[size_t(4 * g + 2)], both[size_t(4 * g + 3)]};
+                ASSERT_EQ(pairRef[g], got) << "state " << stateI << " pair quad " << k - 1 + g;
+            }
+            ASSERT_EQ(expected, n) << "state " << stateI << " pair at quad " << k - 1;
+            ++pairs;
         }
         ASSERT_EQ(refFetches, fastFetches) << "state " << stateI;
     }
@@ -567,7 +601,12 @@ TEST(TextureUnits, CascadesMatchReference) {
     for (bool avx2 : {true, false}) {
         SCOPED_TRACE(avx2 ? "AVX2 kernels allowed" : "SSE2 kernels");
         allowAvx2Kernels(avx2);
-        cascadesAgainstReference();
+        int pairs = 0;
+        cascadesAgainstReference(pairs);
+        // The pair cascades exist with the AVX2 kernels only.
+        if (avx2 && __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2"))
+            EXPECT_GT(pairs, 1000);
+        if (!avx2) EXPECT_EQ(pairs, 0);
         allowAvx2Kernels(true);
         if (HasFatalFailure()) return;
     }
