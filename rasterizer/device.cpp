@@ -100,10 +100,24 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
 
     // Vertex stage: every submitted vertex once, independent of the others.
     std::vector<ProcessedVertex>& processed = scratchVertices;
-    if (processed.size() < vertices.size()) processed.resize(vertices.size());
     // The observer hook lives in the reference raster loop, which gets the reference setup.
     const bool fastPath = options.path == Path::Fast && !dc.fragmentObserver;
+    // Draws without texture coordinates keep 32-byte FastVertex records instead
+    // (pipeline.h): the setup of small triangles waited on vertex bytes. Per calling
+    // thread and kept between draws, like scratchVertices, so that a large mesh does not
+    // page-fault fresh memory on every draw.
+    const bool compact = fastPath && compactVertices(dc);
+    static thread_local std::vector<FastVertex> scratchFast;
+    if (compact && scratchFast.size() < vertices.size()) scratchFast.resize(vertices.size());
+    // (The lambdas below run on worker threads too: they must use this thread's array.)
+    FastVertex* const fastVertices = scratchFast.data();
+    if (!compact && processed.size() < vertices.size()) processed.resize(vertices.size());
     auto processRange = [&](size_t b, size_t e) {
+        if (compact) {
+            processVerticesCompact(dc, worldViewProj, worldView, normalMatrix, vertices, b, e,
+                                   fastVertices);
+            return;
+        }
         if (fastPath) {
             processVerticesFast(dc, worldViewProj, worldView, normalMatrix, vertices, b, e,
                                 processed.data());
@@ -115,6 +129,11 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     auto processedAt = [&](uint32_t i) -> const ProcessedVertex& { return processed[i]; };
     auto setupRange = [&](uint32_t b, uint32_t e, std::vector<SetupTriangle>& out,
                           std::vector<Plane>& texPool, GeometryCounters& gc, auto&& fetch) {
+        if (compact) {
+            setupTrianglesCompact(dc, primitive, b, e, indices, vertices, fastVertices,
+                                  worldViewProj, worldView, normalMatrix, out, texPool, gc);
+            return;
+        }
         if (fastPath) {
             setupTrianglesFast(dc, primitive, b, e, indices, vertices, processed.data(), out,
                                texPool, gc);
@@ -162,7 +181,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             // One thread: set up and rasterize chunk by chunk, no binning (raster_tiles.h),
             // each chunk's vertices transformed just before it (up to the highest vertex it
             // uses), so that setup reads them from cache rather than from a whole draw's
-            // vertex array (216 bytes a vertex) written long before. Meshes whose indices
+            // vertex array written long before. Meshes whose indices
             // grow along the list (most) interleave; others transform everything at the
             // first chunk, as before.
             size_t transformed = 0;

@@ -25,6 +25,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
+
+#include <glm/mat3x3.hpp>
 
 #include "pipeline.h"
 #include "raster_span_avx2.h"
@@ -50,15 +53,23 @@ struct Geometry4 {
 };
 
 // setupTriangle's geometry for the triangles (v[k][0], v[k][1], v[k][2]), k = 0..3, of
-// vertices that need no clipping.
-RG_LANES void setupGeometry4(const DrawContext& dc, const ProcessedVertex* const (&v)[4][3],
-                             Geometry4& g) {
+// vertices that need no clipping. V: ProcessedVertex or FastVertex (int32 sx, sy, converted
+// exactly).
+template <class V>
+RG_LANES void setupGeometry4(const DrawContext& dc, const V* const (&v)[4][3], Geometry4& g) {
     const int s = dc.subpixelBits;
     const bool needInvW = (dc.gouraud && dc.perspectiveColor) || dc.numTexSets > 0;
     F64x4 X[3], Y[3], Z[3] = {}, W[3] = {};  // z and 1/w only when a plane needs them
     for (int j = 0; j < 3; ++j) {
-        X[j] = toDouble(I64x4{v[0][j]->sx, v[1][j]->sx, v[2][j]->sx, v[3][j]->sx});
-        Y[j] = toDouble(I64x4{v[0][j]->sy, v[1][j]->sy, v[2][j]->sy, v[3][j]->sy});
+        if constexpr (std::is_same_v<V, FastVertex>) {
+            X[j] = __builtin_convertvector(
+                I32x4{v[0][j]->sx, v[1][j]->sx, v[2][j]->sx, v[3][j]->sx}, F64x4);
+            Y[j] = __builtin_convertvector(
+                I32x4{v[0][j]->sy, v[1][j]->sy, v[2][j]->sy, v[3][j]->sy}, F64x4);
+        } else {
+            X[j] = toDouble(I64x4{v[0][j]->sx, v[1][j]->sx, v[2][j]->sx, v[3][j]->sx});
+            Y[j] = toDouble(I64x4{v[0][j]->sy, v[1][j]->sy, v[2][j]->sy, v[3][j]->sy});
+        }
         if (dc.depthOn)
             Z[j] = __builtin_convertvector(
                 F32x4{v[0][j]->wz, v[1][j]->wz, v[2][j]->wz, v[3][j]->wz}, F64x4);
@@ -142,14 +153,14 @@ struct PlaneGeometry {  // one lane of Geometry4: what a triangle's planes share
 
 // makePlane for 4 channels (a_v = attr_v·(1/w of v) when perspective-correct) of 3
 // vertices. Out of line: a function of the default target cannot inline an AVX2 one.
-__attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const float* a1,
-                                                      const float* a2, double w0,
+__attribute__((target("avx2"))) void colorPlanes4Avx2(__m128 a0, __m128 a1, __m128 a2,
+                                                      double w0,
                                                       double w1, double w2,
                                                       bool perspective, const PlaneGeometry& g,
                                                       float* c, float* dx, float* dy) {
-    __m256d p0 = _mm256_cvtps_pd(_mm_loadu_ps(a0));
-    __m256d p1 = _mm256_cvtps_pd(_mm_loadu_ps(a1));
-    __m256d p2 = _mm256_cvtps_pd(_mm_loadu_ps(a2));
+    __m256d p0 = _mm256_cvtps_pd(a0);
+    __m256d p1 = _mm256_cvtps_pd(a1);
+    __m256d p2 = _mm256_cvtps_pd(a2);
     if (perspective) {
         p0 = _mm256_mul_pd(p0, _mm256_set1_pd(w0));
         p1 = _mm256_mul_pd(p1, _mm256_set1_pd(w1));
@@ -170,18 +181,16 @@ __attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const flo
     _mm_storeu_ps(dy, _mm256_cvtpd_ps(pdy));
 }
 
-[[gnu::always_inline]] inline void colorPlanes4Sse2(const float* a0, const float* a1,
-                                                    const float* a2, double w0, double w1,
+[[gnu::always_inline]] inline void colorPlanes4Sse2(__m128 a0, __m128 a1, __m128 a2,
+                                                    double w0, double w1,
                                                     double w2, bool perspective,
                                                     const PlaneGeometry& g, float* c,
                                                     float* dx, float* dy) {
     for (int h = 0; h < 4; h += 2) {  // channels (h, h + 1) per register
-        __m128d p0 = _mm_cvtps_pd(
-            _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a0 + h))));
-        __m128d p1 = _mm_cvtps_pd(
-            _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a1 + h))));
-        __m128d p2 = _mm_cvtps_pd(
-            _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(a2 + h))));
+        // channels (h, h + 1) in the low half
+        __m128d p0 = _mm_cvtps_pd(h ? _mm_movehl_ps(a0, a0) : a0);
+        __m128d p1 = _mm_cvtps_pd(h ? _mm_movehl_ps(a1, a1) : a1);
+        __m128d p2 = _mm_cvtps_pd(h ? _mm_movehl_ps(a2, a2) : a2);
         if (perspective) {
             p0 = _mm_mul_pd(p0, _mm_set1_pd(w0));
             p1 = _mm_mul_pd(p1, _mm_set1_pd(w1));
@@ -204,15 +213,31 @@ __attribute__((target("avx2"))) void colorPlanes4Avx2(const float* a0, const flo
     }
 }
 
+// Attributes a..a+3 of a vertex: ProcessedVertex::attr, or for a FastVertex its diffuse
+// (a = 0) or specular (a = 4) bytes widened to float (exact, as processVertexInto's
+// float(d.r) and so on).
+template <class V>
+RG_LANES __m128 attr4(const V* v, int a) {
+    if constexpr (std::is_same_v<V, FastVertex>) {
+        uint32_t bits;
+        std::memcpy(&bits, a == 0 ? &v->diffuse : &v->specular, 4);
+        const __m128i z = _mm_setzero_si128();
+        const __m128i b = _mm_cvtsi32_si128(int(bits));
+        return _mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(b, z), z));
+    } else {
+        return _mm_loadu_ps(&v->attr[a]);
+    }
+}
+
 // Lane k of `g` as the SetupTriangle setupTriangle builds, appended to `out`, with its
 // texture planes appended to `texPool`. Constructed in place without zeroing
 // (SetupTriangle::NoInit), so every member is written below, with the zero a
 // value-initialised SetupTriangle holds wherever setup computes nothing. (Building it in a
 // local and copying it costs more: the copy's 16-byte loads wait on the narrower field
 // stores, measured.)
-template <bool kAvx2>
+template <bool kAvx2, class V>
 RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
-                           const ProcessedVertex* const (&tri)[3], const Vertex& provoking,
+                           const V* const (&tri)[3], const Vertex& provoking,
                            std::vector<SetupTriangle>& out,
                            std::vector<Plane>& texPool) {
     SetupTriangle& t = out.emplace_back(SetupTriangle::NoInit{});
@@ -236,9 +261,9 @@ RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
     }
     const bool needInvW = (dc.gouraud && dc.perspectiveColor) || dc.numTexSets > 0;
     t.invW = needInvW ? Plane{g.wC[k], g.wDx[k], g.wDy[k]} : Plane{};
-    const ProcessedVertex* v0 = tri[0];
-    const ProcessedVertex* v1 = g.swapped[k] ? tri[2] : tri[1];
-    const ProcessedVertex* v2 = g.swapped[k] ? tri[1] : tri[2];
+    const V* v0 = tri[0];
+    const V* v1 = g.swapped[k] ? tri[2] : tri[1];
+    const V* v2 = g.swapped[k] ? tri[1] : tri[2];
     const PlaneGeometry pg{g.dx1[k], g.dy1[k], g.dx2[k], g.dy2[k], g.invArea[k]};
     const double w0 = v0->invW, w1 = v1->invW, w2 = v2->invW;
     const int colors = dc.gouraud ? (dc.needSpecular ? 8 : 4) : 0;
@@ -251,26 +276,26 @@ RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
         for (float* z : {&t.colorC[0], &t.colorDx[0], &t.colorDy[0]}) std::memcpy(z, &zero, 16);
     for (int a = 0; a < colors; a += 4) {
         if constexpr (kAvx2)
-            colorPlanes4Avx2(&v0->attr[a], &v1->attr[a], &v2->attr[a], w0, w1, w2,
+            colorPlanes4Avx2(attr4(v0, a), attr4(v1, a), attr4(v2, a), w0, w1, w2,
                              dc.perspectiveColor, pg, &t.colorC[a], &t.colorDx[a],
                              &t.colorDy[a]);
         else
-            colorPlanes4Sse2(&v0->attr[a], &v1->attr[a], &v2->attr[a], w0, w1, w2,
+            colorPlanes4Sse2(attr4(v0, a), attr4(v1, a), attr4(v2, a), w0, w1, w2,
                              dc.perspectiveColor, pg, &t.colorC[a], &t.colorDx[a],
                              &t.colorDy[a]);
     }
     t.texPlanes = uint32_t(texPool.size());
-    if (dc.numAttrs > kColorAttrs) {
+    if constexpr (std::is_same_v<V, ProcessedVertex>) if (dc.numAttrs > kColorAttrs) {
         texPool.resize(texPool.size() + size_t(dc.numAttrs - kColorAttrs));
         Plane* p = texPool.data() + t.texPlanes;
         alignas(16) float c[4], dx[4], dy[4];
         int a = kColorAttrs;
         for (; a + 4 <= dc.numAttrs; a += 4, p += 4) {  // one set per step
             if constexpr (kAvx2)
-                colorPlanes4Avx2(&v0->attr[a], &v1->attr[a], &v2->attr[a], w0, w1, w2, true,
+                colorPlanes4Avx2(attr4(v0, a), attr4(v1, a), attr4(v2, a), w0, w1, w2, true,
                                  pg, c, dx, dy);
             else
-                colorPlanes4Sse2(&v0->attr[a], &v1->attr[a], &v2->attr[a], w0, w1, w2, true,
+                colorPlanes4Sse2(attr4(v0, a), attr4(v1, a), attr4(v2, a), w0, w1, w2, true,
                                  pg, c, dx, dy);
             for (int q = 0; q < 4; ++q) p[q] = Plane{c[q], dx[q], dy[q]};
         }
@@ -283,16 +308,24 @@ RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
     t.flatSpecular = dc.gouraud ? Rgba8{} : provoking.specular;
 }
 
-template <bool kAvx2>
+// The matrices a FastVertex draw recomputes the ProcessedVertex of a clipped triangle's
+// vertices with (processVertexInto).
+struct Transforms {
+    const glm::mat4& worldViewProj;
+    const glm::mat4& worldView;
+    const glm::mat3& normalMatrix;
+};
+
+template <bool kAvx2, class V>
 RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_t begin,
                              uint32_t end, std::span<const uint32_t> indices,
-                             std::span<const Vertex> vertices, const ProcessedVertex* processed,
-                             std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
-                             GeometryCounters& gc) {
+                             std::span<const Vertex> vertices, const V* processed,
+                             const Transforms* transforms, std::vector<SetupTriangle>& out,
+                             std::vector<Plane>& texPool, GeometryCounters& gc) {
     out.reserve(out.size() + (end - begin));
     const bool indexed = !indices.empty();
     // The vertices of triangles kPrefetch ahead are requested from memory: a draw's
-    // vertex array is far larger than L2 (216 bytes each), and the loop body is too long
+    // vertex array is far larger than L2 (216 or 32 bytes each), and the loop body is too long
     // for the core to reach the next group's loads on its own (measured: a third of the
     // setup time went to waiting on the first vertex loads of a group).
     constexpr uint32_t kPrefetch = 16;
@@ -304,14 +337,14 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
                     const char* p = reinterpret_cast<const char*>(
                         &processed[indexed ? indices[x] : x]);
                     __builtin_prefetch(p);
-                    __builtin_prefetch(p + 64);
+                    if constexpr (sizeof(V) > 64) __builtin_prefetch(p + 64);
                 }
             }
         }
         // ---- primitive assembly of up to four triangles ----------------------------------
         const int n = int(std::min<uint32_t>(4, end - i));
-        const ProcessedVertex* v[4][3];
-        uint32_t provoking[4];
+        const V* v[4][3];
+        uint32_t provoking[4], second[4], third[4];
         unsigned unclipped = 0;  // bit k: triangle k takes the SIMD setup
         for (int k = 0; k < 4; ++k) {
             if (k >= n) {  // a spare lane computes triangle 0 again, unused
@@ -323,6 +356,8 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
             const uint32_t b = indexed ? indices[tv[1]] : tv[1];
             const uint32_t c = indexed ? indices[tv[2]] : tv[2];
             provoking[k] = a;
+            second[k] = b;
+            third[k] = c;
             v[k][0] = &processed[a];
             v[k][1] = &processed[b];
             v[k][2] = &processed[c];
@@ -337,7 +372,8 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
             if (unclipped & (1u << k)) {
                 ++gc.submitted;
                 if (g.keep[k]) {
-                    emitTriangle<kAvx2>(dc, g, k, v[k], vertices[provoking[k]], out, texPool);
+                    emitTriangle<kAvx2, V>(dc, g, k, v[k], vertices[provoking[k]], out,
+                                           texPool);
                     ++gc.drawn;
                 } else {
                     ++gc.culled;
@@ -345,8 +381,20 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
             } else {
                 const Rgba8 flatD = dc.gouraud ? Rgba8{} : vertices[provoking[k]].diffuse;
                 const Rgba8 flatS = dc.gouraud ? Rgba8{} : vertices[provoking[k]].specular;
-                clipAndSetup(dc, *v[k][0], *v[k][1], *v[k][2], flatD, flatS, out, texPool,
-                             gc);
+                if constexpr (std::is_same_v<V, FastVertex>) {
+                    // The records hold too little to clip: the vertex stage again, scalar
+                    // (the lanes' values, SetupSimd.EightVertexLanesEqualTheScalarVertexStage).
+                    ProcessedVertex full[3];
+                    const uint32_t idx[3] = {provoking[k], second[k], third[k]};
+                    for (int j = 0; j < 3; ++j)
+                        processVertexInto(dc, transforms->worldViewProj, transforms->worldView,
+                                          transforms->normalMatrix, vertices[idx[j]], full[j]);
+                    clipAndSetup(dc, full[0], full[1], full[2], flatD, flatS, out, texPool, gc);
+                } else {
+                    (void)transforms;
+                    clipAndSetup(dc, *v[k][0], *v[k][1], *v[k][2], flatD, flatS, out,
+                                 texPool, gc);
+                }
             }
         }
     }
@@ -357,8 +405,8 @@ __attribute__((target("avx2"))) void setupRangeAvx2(
     std::span<const uint32_t> indices, std::span<const Vertex> vertices,
     const ProcessedVertex* processed, std::vector<SetupTriangle>& out,
     std::vector<Plane>& texPool, GeometryCounters& gc) {
-    setupRangeBody<true>(dc, primitive, begin, end, indices, vertices, processed, out,
-                         texPool, gc);
+    setupRangeBody<true>(dc, primitive, begin, end, indices, vertices, processed, nullptr,
+                         out, texPool, gc);
 }
 
 void setupRangeSse2(const DrawContext& dc, Primitive primitive, uint32_t begin,
@@ -366,7 +414,25 @@ void setupRangeSse2(const DrawContext& dc, Primitive primitive, uint32_t begin,
                     std::span<const Vertex> vertices, const ProcessedVertex* processed,
                     std::vector<SetupTriangle>& out, std::vector<Plane>& texPool,
                     GeometryCounters& gc) {
-    setupRangeBody<false>(dc, primitive, begin, end, indices, vertices, processed, out,
+    setupRangeBody<false>(dc, primitive, begin, end, indices, vertices, processed, nullptr,
+                          out, texPool, gc);
+}
+
+__attribute__((target("avx2"))) void setupCompactAvx2(
+    const DrawContext& dc, Primitive primitive, uint32_t begin, uint32_t end,
+    std::span<const uint32_t> indices, std::span<const Vertex> vertices,
+    const FastVertex* processed, const Transforms& tr, std::vector<SetupTriangle>& out,
+    std::vector<Plane>& texPool, GeometryCounters& gc) {
+    setupRangeBody<true>(dc, primitive, begin, end, indices, vertices, processed, &tr, out,
+                         texPool, gc);
+}
+
+void setupCompactSse2(const DrawContext& dc, Primitive primitive, uint32_t begin,
+                      uint32_t end, std::span<const uint32_t> indices,
+                      std::span<const Vertex> vertices, const FastVertex* processed,
+                      const Transforms& tr, std::vector<SetupTriangle>& out,
+                      std::vector<Plane>& texPool, GeometryCounters& gc) {
+    setupRangeBody<false>(dc, primitive, begin, end, indices, vertices, processed, &tr, out,
                           texPool, gc);
 }
 
@@ -384,6 +450,22 @@ void setupTrianglesFast(const DrawContext& dc, Primitive primitive, uint32_t beg
     else
         setupRangeSse2(dc, primitive, begin, end, indices, vertices, processed, out,
                        texPool, gc);
+}
+
+void setupTrianglesCompact(const DrawContext& dc, Primitive primitive, uint32_t begin,
+                           uint32_t end, std::span<const uint32_t> indices,
+                           std::span<const Vertex> vertices, const FastVertex* processed,
+                           const glm::mat4& worldViewProj, const glm::mat4& worldView,
+                           const glm::mat3& normalMatrix, std::vector<SetupTriangle>& out,
+                           std::vector<Plane>& texPool, GeometryCounters& gc) {
+    static const bool avx2 = haveAvx2();
+    const Transforms tr{worldViewProj, worldView, normalMatrix};
+    if (avx2)
+        setupCompactAvx2(dc, primitive, begin, end, indices, vertices, processed, tr, out,
+                         texPool, gc);
+    else
+        setupCompactSse2(dc, primitive, begin, end, indices, vertices, processed, tr, out,
+                         texPool, gc);
 }
 
 }  // namespace rg::raster::detail

@@ -1,6 +1,7 @@
 // Vertex transform, primitive assembly and homogeneous clipping
 // (docs/hardware.md, "Vertex transform and clipping").
 #include <cmath>
+#include <type_traits>
 
 #include <glm/mat3x3.hpp>
 
@@ -192,8 +193,10 @@ using namespace lanes;
 // (m0·x + m1·y) + (m2·z + m3·1), the divisions of project, snapToFixed in double, the
 // outcode dot products summed left to right. No FMA (-ffp-contract=off; the AVX2 target
 // does not include FMA).
-RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex* v,
-                        ProcessedVertex* out) {
+// Out: ProcessedVertex (processVerticesFast) or FastVertex (processVerticesCompact, the
+// same values in the fields it has).
+template <class Out>
+RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex* v, Out* out) {
     F32x8 x, y, z;
     for (int k = 0; k < 8; ++k) {
         x[k] = v[k].position.x;
@@ -236,26 +239,41 @@ RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex*
     const I32x8 unclipped = valid & (outcode == 0) & finiteLanes(wx) & finiteLanes(wy) &
                             finiteLanes(wz) & finiteLanes(invW);
 
-    for (int k = 0; k < 8; ++k) {
-        ProcessedVertex& p = out[k];
-        p.clip = glm::vec4(c[0][k], c[1][k], c[2][k], c[3][k]);
-        p.valid = valid[k] != 0;
-        if (p.valid) {  // an invalid vertex keeps the zeros processVertexInto gives it
-            p.wx = wx[k];
-            p.wy = wy[k];
-            p.wz = wz[k];
-            p.invW = invW[k];
-            p.sx = sx[k >> 2][k & 3];
-            p.sy = sy[k >> 2][k & 3];
-        } else {
-            p.wx = p.wy = p.wz = p.invW = 0.0f;
-            p.sx = p.sy = 0;
+    if constexpr (std::is_same_v<Out, FastVertex>) {
+        for (int k = 0; k < 8; ++k) {
+            FastVertex& p = out[k];
+            const bool ok = valid[k] != 0;  // an invalid vertex: processVertexInto's zeros
+            p.sx = ok ? int32_t(sx[k >> 2][k & 3]) : 0;
+            p.sy = ok ? int32_t(sy[k >> 2][k & 3]) : 0;
+            p.wz = ok ? wz[k] : 0.0f;
+            p.invW = ok ? invW[k] : 0.0f;
+            p.diffuse = v[k].diffuse;
+            p.specular = v[k].specular;
+            p.unclipped = unclipped[k] != 0 ? 1u : 0u;
+            p.pad = 0;
         }
-        p.outcode = uint32_t(outcode[k]);
-        p.unclipped = unclipped[k] != 0;
-        const Rgba8 d = v[k].diffuse, s = v[k].specular;
-        p.attr[0] = d.r; p.attr[1] = d.g; p.attr[2] = d.b; p.attr[3] = d.a;
-        p.attr[4] = s.r; p.attr[5] = s.g; p.attr[6] = s.b; p.attr[7] = s.a;
+    } else {
+        for (int k = 0; k < 8; ++k) {
+            ProcessedVertex& p = out[k];
+            p.clip = glm::vec4(c[0][k], c[1][k], c[2][k], c[3][k]);
+            p.valid = valid[k] != 0;
+            if (p.valid) {  // an invalid vertex keeps the zeros processVertexInto gives it
+                p.wx = wx[k];
+                p.wy = wy[k];
+                p.wz = wz[k];
+                p.invW = invW[k];
+                p.sx = sx[k >> 2][k & 3];
+                p.sy = sy[k >> 2][k & 3];
+            } else {
+                p.wx = p.wy = p.wz = p.invW = 0.0f;
+                p.sx = p.sy = 0;
+            }
+            p.outcode = uint32_t(outcode[k]);
+            p.unclipped = unclipped[k] != 0;
+            const Rgba8 d = v[k].diffuse, s = v[k].specular;
+            p.attr[0] = d.r; p.attr[1] = d.g; p.attr[2] = d.b; p.attr[3] = d.a;
+            p.attr[4] = s.r; p.attr[5] = s.g; p.attr[6] = s.b; p.attr[7] = s.a;
+        }
     }
 }
 
@@ -268,6 +286,45 @@ RG_LANES void verticesBody(const DrawContext& dc, const glm::mat4& worldViewProj
     if (dc.space == VertexSpace::Untransformed && dc.numTexSets == 0)
         for (; i + 8 <= end; i += 8) vertices8(dc, worldViewProj, &in[i], &out[i]);
     for (; i < end; ++i) processVertexInto(dc, worldViewProj, worldView, normalMatrix, in[i], out[i]);
+}
+
+// FastVertex from processVertexInto's result (the vertices the lanes leave over).
+void compactFrom(const ProcessedVertex& p, const Vertex& v, FastVertex& f) {
+    f.sx = int32_t(p.sx);
+    f.sy = int32_t(p.sy);
+    f.wz = p.wz;
+    f.invW = p.invW;
+    f.diffuse = v.diffuse;
+    f.specular = v.specular;
+    f.unclipped = p.unclipped ? 1u : 0u;
+    f.pad = 0;
+}
+
+template <bool kAvx2>
+RG_LANES void compactBody(const DrawContext& dc, const glm::mat4& worldViewProj,
+                          const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                          std::span<const Vertex> in, size_t begin, size_t end,
+                          FastVertex* out) {
+    size_t i = begin;
+    for (; i + 8 <= end; i += 8) vertices8(dc, worldViewProj, &in[i], &out[i]);
+    for (; i < end; ++i) {
+        ProcessedVertex p;
+        processVertexInto(dc, worldViewProj, worldView, normalMatrix, in[i], p);
+        compactFrom(p, in[i], out[i]);
+    }
+}
+
+__attribute__((target("avx2"))) void compactAvx2(
+    const DrawContext& dc, const glm::mat4& worldViewProj, const glm::mat4& worldView,
+    const glm::mat3& normalMatrix, std::span<const Vertex> in, size_t begin, size_t end,
+    FastVertex* out) {
+    compactBody<true>(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
+}
+
+void compactSse2(const DrawContext& dc, const glm::mat4& worldViewProj,
+                 const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                 std::span<const Vertex> in, size_t begin, size_t end, FastVertex* out) {
+    compactBody<false>(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
 }
 
 __attribute__((target("avx2"))) void verticesAvx2(
@@ -294,6 +351,17 @@ void processVerticesFast(const DrawContext& dc, const glm::mat4& worldViewProj,
         verticesAvx2(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
     else
         verticesSse2(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
+}
+
+void processVerticesCompact(const DrawContext& dc, const glm::mat4& worldViewProj,
+                            const glm::mat4& worldView, const glm::mat3& normalMatrix,
+                            std::span<const Vertex> in, size_t begin, size_t end,
+                            FastVertex* out) {
+    static const bool avx2 = haveAvx2();
+    if (avx2)
+        compactAvx2(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
+    else
+        compactSse2(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
 }
 
 void clipAndSetup(const DrawContext& dc, const ProcessedVertex& v0, const ProcessedVertex& v1,

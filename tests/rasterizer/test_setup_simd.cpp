@@ -15,7 +15,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -330,6 +332,141 @@ TEST(SetupSimd, EightVertexLanesEqualTheScalarVertexStage) {
             if (::testing::Test::HasFailure()) return;
         }
     }
+}
+
+// The compact records (FastVertex: processVerticesCompact, setupTrianglesCompact) against
+// the reference vertex stage and setup: every record field against processVertexInto's,
+// and every SetupTriangle and counter against clipAndSetup on processVertexInto's vertices.
+// Random transforms, viewports, scissors and states; small triangles on screen, some
+// reaching past the guard band or behind the eye (the records' clipAndSetup fallback,
+// which recomputes the full vertices) and NaN/Inf positions; the vertex pass and the
+// setup each split at a random point.
+TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
+    tex::TextureUnits tu;
+    Rng r(23);
+    uint64_t clipped = 0, drawn = 0, culled = 0, invalid = 0;
+    for (int round = 0; round < 1500; ++round) {
+        const int W = int(r.i(8, 700)), H = int(r.i(8, 500));
+        Framebuffer fb(W, H, r.p(0.5) ? DepthFormat::D24 : DepthFormat::None);
+        PipelineState st;
+        st.cull = CullMode(r.i(0, 2));
+        st.shade = r.p(0.8) ? ShadeMode::Gouraud : ShadeMode::Flat;
+        st.perspectiveColor = uint8_t(r.p(0.7));
+        st.specularEnable = uint8_t(r.p(0.3));
+        st.depthTest = uint8_t(r.p(0.6));
+        st.scissorTest = uint8_t(r.p(0.3));
+        const Viewport vp{int32_t(r.i(0, W / 2)), int32_t(r.i(0, H / 2)), int32_t(r.i(1, W)),
+                          int32_t(r.i(1, H)), r.f(0.0f, 0.5f), r.f(0.5f, 1.0f)};
+        const Rect scissor{int32_t(r.i(-20, W)), int32_t(r.i(-20, H)), int32_t(r.i(0, W)),
+                           int32_t(r.i(0, H))};
+        const int s = r.p(0.5) ? 4 : 8;
+        const DrawContext dc = makeDrawContext(st, fb, tu, Path::Fast,
+                                               VertexSpace::Untransformed, vp, scissor, s);
+        ASSERT_TRUE(compactVertices(dc));
+        const bool persp = r.p(0.5);
+        glm::mat4 m = persp ? glm::perspectiveLH_ZO(r.f(0.3f, 2.0f), r.f(0.5f, 2.0f),
+                                                    r.f(0.01f, 1.0f), r.f(2.0f, 100.0f))
+                            : glm::orthoLH_ZO(0.0f, float(W), float(H), 0.0f, 0.0f, 1.0f);
+        if (r.p(0.3))
+            for (int c = 0; c < 4; ++c)
+                for (int k = 0; k < 4; ++k)
+                    if (r.p(0.1)) m[c][k] += r.f(-0.5f, 0.5f);
+        const int n = int(r.i(3, 90));
+        std::vector<Vertex> verts(static_cast<size_t>(n));
+        float cx = persp ? r.f(-1.0f, 1.0f) : r.f(0.0f, float(W));
+        float cy = persp ? r.f(-1.0f, 1.0f) : r.f(0.0f, float(H));
+        const float step = persp ? 0.02f : 3.0f;
+        for (Vertex& v : verts) {
+            // A walk of small steps: small triangles, now and then a far point.
+            cx += r.f(-step, step);
+            cy += r.f(-step, step);
+            const float z = persp ? r.f(1.0f, 3.0f) : r.f(0.0f, 1.0f);  // inside near and far
+            v.position = {cx, cy, z, 1.0f};
+            if (persp) v.position = {cx * z, cy * z, z, 1.0f};
+            const float odd = r.f(0.0f, 1.0f);
+            if (odd < 0.02f) v.position.x = std::numeric_limits<float>::quiet_NaN();
+            else if (odd < 0.03f) v.position.y = std::numeric_limits<float>::infinity();
+            else if (odd < 0.06f) v.position.x = r.f(-1e6f, 1e6f);
+            else if (odd < 0.08f) v.position.z = -r.f(0.0f, 5.0f);  // behind the eye
+            else if (odd < 0.09f) v.position.z = 1e4f;  // past the far plane
+            v.diffuse = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
+                              uint8_t(r.i(0, 255))};
+            v.specular = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
+                               uint8_t(r.i(0, 255))};
+        }
+        const glm::mat4 wv(1.0f);
+        const glm::mat3 nm(1.0f);
+        const std::string where = "round " + std::to_string(round);
+
+        // ---- the vertex records --------------------------------------------------------
+        std::vector<ProcessedVertex> pv(verts.size());
+        for (size_t k = 0; k < verts.size(); ++k) processVertexInto(dc, m, wv, nm, verts[k], pv[k]);
+        std::vector<FastVertex> fv(verts.size());
+        const size_t vsplit = size_t(r.i(0, n));
+        processVerticesCompact(dc, m, wv, nm, verts, 0, vsplit, fv.data());
+        processVerticesCompact(dc, m, wv, nm, verts, vsplit, verts.size(), fv.data());
+        for (size_t k = 0; k < verts.size(); ++k) {
+            const ProcessedVertex& a = pv[k];
+            const FastVertex& b = fv[k];
+            ASSERT_EQ(a.sx, int64_t(b.sx)) << where << ", vertex " << k;
+            ASSERT_EQ(a.sy, int64_t(b.sy)) << where << ", vertex " << k;
+            ASSERT_TRUE(sameBits(a.wz, b.wz) && sameBits(a.invW, b.invW)) << where << ", " << k;
+            ASSERT_EQ(a.unclipped, b.unclipped == 1u) << where << ", vertex " << k;
+            ASSERT_TRUE(b.diffuse == verts[k].diffuse && b.specular == verts[k].specular);
+        }
+
+        // ---- setup -----------------------------------------------------------------------
+        const Primitive prim = Primitive(r.i(0, 2));
+        std::vector<uint32_t> indices;
+        if (r.p(0.6)) {
+            const int count = int(r.i(3, 120));
+            uint32_t base = 0;
+            for (int k = 0; k < count; ++k) {
+                base = uint32_t(std::clamp<int64_t>(int64_t(base) + r.i(-2, 3), 0, n - 1));
+                indices.push_back(base);
+            }
+        }
+        const uint32_t vertexCount = uint32_t(indices.empty() ? pv.size() : indices.size());
+        const uint32_t triangles = triangleCount(prim, vertexCount);
+        std::vector<SetupTriangle> ref, fast;
+        std::vector<Plane> refPool, fastPool;
+        GeometryCounters refGc, fastGc;
+        for (uint32_t t = 0; t < triangles; ++t) {
+            const std::array<uint32_t, 3> tv = triangleVertices(prim, t);
+            const uint32_t a = indices.empty() ? tv[0] : indices[tv[0]];
+            const uint32_t b = indices.empty() ? tv[1] : indices[tv[1]];
+            const uint32_t c = indices.empty() ? tv[2] : indices[tv[2]];
+            const Rgba8 flatD = dc.gouraud ? Rgba8{} : verts[a].diffuse;
+            const Rgba8 flatS = dc.gouraud ? Rgba8{} : verts[a].specular;
+            clipAndSetup(dc, pv[a], pv[b], pv[c], flatD, flatS, ref, refPool, refGc);
+        }
+        const uint32_t split = triangles ? uint32_t(r.i(0, triangles)) : 0;
+        setupTrianglesCompact(dc, prim, 0, split, indices, verts, fv.data(), m, wv, nm, fast,
+                              fastPool, fastGc);
+        setupTrianglesCompact(dc, prim, split, triangles, indices, verts, fv.data(), m, wv, nm,
+                              fast, fastPool, fastGc);
+        ASSERT_EQ(ref.size(), fast.size()) << where;
+        ASSERT_EQ(refGc.submitted, fastGc.submitted) << where;
+        ASSERT_EQ(refGc.culled, fastGc.culled) << where;
+        ASSERT_EQ(refGc.clipped, fastGc.clipped) << where;
+        ASSERT_EQ(refGc.drawn, fastGc.drawn) << where;
+        ASSERT_EQ(refGc.invalid, fastGc.invalid) << where;
+        ASSERT_EQ(refPool.size(), fastPool.size()) << where;
+        for (size_t k = 0; k < ref.size(); ++k)
+            ASSERT_EQ(differingField(ref[k], fast[k]), "") << where << ", triangle " << k;
+        clipped += refGc.clipped;
+        drawn += refGc.drawn;
+        culled += refGc.culled;
+        invalid += refGc.invalid;
+    }
+    // The rounds reach every branch: SIMD lanes, the clipping fallback, culling, invalid.
+    EXPECT_GT(drawn, 5000u);
+    EXPECT_GT(clipped, 1000u);
+    EXPECT_GT(culled, 1000u);
+    EXPECT_GT(invalid, 1000u);
+    std::printf("compact records: %llu drawn, %llu clipped, %llu culled, %llu invalid\n",
+                (unsigned long long)drawn, (unsigned long long)clipped,
+                (unsigned long long)culled, (unsigned long long)invalid);
 }
 
 // Draws of more triangles than one batch of chunks holds (the fast path sets up and
