@@ -57,6 +57,12 @@ struct MaskW {
         return Mask4(q);
     }
     void setQuad(int i, Mask4 m) { std::memcpy(reinterpret_cast<char*>(r) + 16 * i, &m.v, 16); }
+    // Register k from quads 2k and 2k + 1 in registers (setQuad's two 16-byte stores, read
+    // back as one 32-byte load, miss store forwarding).
+    void setPair(int k, Mask4 a, Mask4 b) {
+        typedef int32_t I4 __attribute__((vector_size(16)));
+        r[k] = __builtin_shufflevector(reinterpret_cast<I4>(a.v), reinterpret_cast<I4>(b.v), 0, 1, 2, 3, 4, 5, 6, 7);
+    }
     template <class Op>
     static MaskW zip(const MaskW& a, const MaskW& b, Op op) {
         MaskW m;
@@ -88,6 +94,11 @@ struct FloatW {
         return Float4(q);
     }
     void setQuad(int i, Float4 f) { std::memcpy(reinterpret_cast<char*>(r) + 16 * i, &f.v, 16); }
+    // As MaskW::setPair: register k from quads 2k and 2k + 1 without a trip through memory.
+    void setPair(int k, Float4 a, Float4 b) {
+        typedef float F4 __attribute__((vector_size(16)));
+        r[k] = __builtin_shufflevector(static_cast<F4>(a.v), static_cast<F4>(b.v), 0, 1, 2, 3, 4, 5, 6, 7);
+    }
     template <class Op>
     static FloatW zip(const FloatW& a, const FloatW& b, Op op) {
         FloatW o;
@@ -179,6 +190,12 @@ struct Vec4W {
         y.setQuad(i, v.y);
         z.setQuad(i, v.z);
         w.setQuad(i, v.w);
+    }
+    void setPair(int k, const Vec4x4& a, const Vec4x4& b) {
+        x.setPair(k, a.x, b.x);
+        y.setPair(k, a.y, b.y);
+        z.setPair(k, a.z, b.z);
+        w.setPair(k, a.w, b.w);
     }
     friend Vec4W operator+(const Vec4W& a, const Vec4W& b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
     friend Vec4W operator-(const Vec4W& a, const Vec4W& b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
@@ -321,7 +338,8 @@ class QuadGroupWideContext {
     // After the quads' begin: the group's lane masks. Before their finish: the fetches
     // counted here, added to the quads' own.
     void beginGroup() {
-        for (int i = 0; i < N; ++i) live_.setQuad(i, quads_[size_t(i)].active());
+        for (int k = 0; k < Mask::kRegs; ++k)
+            live_.setPair(k, quads_[size_t(2 * k)].active(), quads_[size_t(2 * k + 1)].active());
         fetches_ = Mask();
     }
     void endGroup() {
@@ -356,7 +374,7 @@ class QuadGroupWideContext {
     template <class Fn>
     Vec4 each(Fn f) const {
         Vec4 r;
-        for (int i = 0; i < N; ++i) r.setQuad(i, f(quads_[size_t(i)]));
+        for (int k = 0; k < Mask::kRegs; ++k) r.setPair(k, f(quads_[size_t(2 * k)]), f(quads_[size_t(2 * k + 1)]));
         return r;
     }
     std::array<QuadContext, N> quads_;
