@@ -118,7 +118,7 @@ Accel::Accel(const Scene& scene) : scene_(scene) {
     rtcScene_ = rtcNewScene(device);
     rtcSetSceneFlags(rtcScene_, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);
-    meshes_.resize(scene.objects.size());
+    geometries_.resize(scene.objects.size());
     Bounds all;
     for (uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
         const Object& o = scene.objects[oi];
@@ -143,28 +143,29 @@ Accel::Accel(const Scene& scene) : scene_(scene) {
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(rtcScene_, g, oi);
         rtcReleaseGeometry(g);
-        WorldMesh& w = meshes_[oi];
-        w.triangles.resize(m.triangleCount());
-        // One spare element: Accel::surfaces reads each normal as a 16-byte row.
-        w.faceNormals.resize(m.triangleCount() + 1);
+        Geometry& geo = geometries_[oi];
+        if (records_.size() + m.triangleCount() > size_t(UINT32_MAX))
+            throw Error("embree: the scene has more than 2^32 - 1 triangles");
+        geo.base = uint32_t(records_.size());
+        geo.material = &scene.materials[o.material];
+        records_.resize(records_.size() + m.triangleCount());
         uint32_t part = 0;
         for (size_t t = 0; t < m.triangleCount(); ++t) {
             while (part + 1 < m.parts.size() && m.parts[part + 1].firstTriangle <= t) ++part;
             const uint32_t* tri = &m.indices[3 * t];
-            TriangleShading& ts = w.triangles[t];
+            TriangleRecord& rec = records_[geo.base + t];
             for (int k = 0; k < 3; ++k) {
-                ts.normal[k] = m.normals[tri[k]];
-                ts.uv[k] = m.uvs[tri[k]];
+                rec.normal[k] = m.normals[tri[k]];
+                rec.uv[k] = m.uvs[tri[k]];
             }
-            ts.part = part;
+            rec.part = part;
             // Unit face normals once here rather than a square root and a division per
             // hit; the same winding as Embree's Ng, (v1 − v0) × (v2 − v0).
             const glm::vec3& a = m.positions[tri[0]];
             glm::vec3 n = glm::cross(m.positions[tri[1]] - a, m.positions[tri[2]] - a);
             float len = glm::length(n);
-            w.faceNormals[t] = len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
+            rec.faceNormal = len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
         }
-        w.material = &scene.materials[o.material];
     }
     rtcCommitScene(rtcScene_);
     if (RTCError e = rtcGetDeviceError(device); e != RTC_ERROR_NONE)
@@ -296,11 +297,11 @@ void Accel::intersectStreamSurfaces(const Ray* rays, SurfacePoint* out, size_t c
 __attribute__((always_inline)) inline SurfacePoint Accel::resolve(
     const glm::vec3& origin, const glm::vec3& dir, float t, float u, float v, uint32_t object,
     uint32_t triangle) const {
-    const WorldMesh& w = meshes_[object];
-    const TriangleShading& ts = w.triangles[triangle];
+    const Geometry& geo = geometries_[object];
+    const TriangleRecord& ts = records_[geo.base + triangle];
     const float b0 = 1.0f - u - v;
     const glm::vec3 p = origin + t * dir;
-    const glm::vec3 ng = w.faceNormals[triangle];
+    const glm::vec3 ng = ts.faceNormal;
     glm::vec3 ns = b0 * ts.normal[0] + u * ts.normal[1] + v * ts.normal[2];
     const float lenNs = glm::length(ns);
     // One division, then multiplies: divss dominated this function's profile.
@@ -317,7 +318,7 @@ __attribute__((always_inline)) inline SurfacePoint Accel::resolve(
                         .object = object,
                         .part = ts.part,
                         .triangle = triangle,
-                        .material = w.material};
+                        .material = geo.material};
 }
 
 SurfacePoint Accel::surface(const Ray& ray, const Hit& hit) const {
@@ -370,30 +371,30 @@ void Accel::surfacesSse2(const Ray* rays, const Hit* hits, SurfacePoint* out, si
     // Lanes without a hit (misses, the end of a partial group) read these harmless values.
     static const Hit noHit{};
     static const Ray noRay{};
-    static const TriangleShading noShading{};
+    static const TriangleRecord noShading{};
     alignas(16) static const float noNormal[4] = {0.0f, 1.0f, 0.0f, 0.0f};
     // The inputs are read as 16-byte rows and transposed, four hits at a time, so that each
     // register holds one field of four hits:
     //   Hit             t u v ·            (the first 16 bytes)
     //   Ray             ox oy oz dx | dy dz tnear tfar
-    //   face normal     x y z ·            (faceNormals has one spare element at its end)
-    //   TriangleShading n0 n1 n2 (9 floats) uv0 uv1 uv2 (6) part — four rows
+    //   face normal     x y z ·            (TriangleRecord's fifth row)
+    //   TriangleRecord  n0 n1 n2 (9 floats) uv0 uv1 uv2 (6) part — four rows
     static_assert(offsetof(Hit, t) == 0 && offsetof(Hit, u) == 4 && offsetof(Hit, v) == 8);
     static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && sizeof(Ray) == 32);
-    static_assert(offsetof(TriangleShading, uv) == 36 && offsetof(TriangleShading, part) == 60);
+    static_assert(offsetof(TriangleRecord, uv) == 36 && offsetof(TriangleRecord, part) == 60 &&
+                  offsetof(TriangleRecord, faceNormal) == 64);
     for (size_t base = 0; base < n; base += 4) {
         const size_t m = std::min<size_t>(4, n - base);
         const Hit* h[4];
         const Ray* r[4];
-        const TriangleShading* ts[4];
+        const TriangleRecord* ts[4];
         const float* g[4];
         for (size_t l = 0; l < 4; ++l) {
             const bool valid = l < m && hits[base + l].valid();
             h[l] = valid ? &hits[base + l] : &noHit;
             r[l] = valid ? &rays[base + l] : &noRay;
-            const WorldMesh* w = valid ? &meshes_[h[l]->object] : nullptr;
-            ts[l] = valid ? &w->triangles[h[l]->triangle] : &noShading;
-            g[l] = valid ? &w->faceNormals[h[l]->triangle].x : noNormal;
+            ts[l] = valid ? &records_[geometries_[h[l]->object].base + h[l]->triangle] : &noShading;
+            g[l] = valid ? &ts[l]->faceNormal.x : noNormal;
         }
         __m128 hit[4], ray0[4], ray1[4], ng[4], tri[4][4];
         for (int l = 0; l < 4; ++l) {
@@ -409,7 +410,7 @@ void Accel::surfacesSse2(const Ray* rays, const Hit* hits, SurfacePoint* out, si
         _MM_TRANSPOSE4_PS(ray1[0], ray1[1], ray1[2], ray1[3]);
         _MM_TRANSPOSE4_PS(ng[0], ng[1], ng[2], ng[3]);
         for (int row = 0; row < 4; ++row) _MM_TRANSPOSE4_PS(tri[row][0], tri[row][1], tri[row][2], tri[row][3]);
-        auto field = [&](int f) { return tri[f / 4][f % 4]; };  // float f of TriangleShading
+        auto field = [&](int f) { return tri[f / 4][f % 4]; };  // float f of TriangleRecord
         const __m128 T = hit[0], U = hit[1], V = hit[2];
         const __m128 b0 = _mm_sub_ps(_mm_sub_ps(one, U), V);
         const __m128 O[3] = {ray0[0], ray0[1], ray0[2]};
@@ -448,7 +449,7 @@ void Accel::surfacesSse2(const Ray* rays, const Hit* hits, SurfacePoint* out, si
             s.object = h[l]->object;
             s.triangle = h[l]->triangle;
             s.part = ts[l]->part;
-            s.material = meshes_[h[l]->object].material;
+            s.material = geometries_[h[l]->object].material;
         }
     }
 }

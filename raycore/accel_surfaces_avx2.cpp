@@ -67,7 +67,7 @@ RG_AVX2 void resolveRows(const float* const in[8], const float* const r[8],
     //   Hit         t u v ·                 RTCRayHit  ox oy oz · | dx dy dz · | tfar · · ·
     //   Ray         ox oy oz dx | dy dz · ·            u v primID geomID (at byte 60)
     //   face normal x y z ·
-    //   TriangleShading n0 n1 n2 uv0 uv1 uv2 part (four rows)
+    //   TriangleRecord n0 n1 n2 uv0 uv1 uv2 part (four rows; the face normal is its fifth)
     //
     // The shading normal's square root and division come first in program order: a group is
     // more instructions than the reorder buffer holds, so whatever follows them in the
@@ -76,13 +76,13 @@ RG_AVX2 void resolveRows(const float* const in[8], const float* const r[8],
                   offsetof(RTCRayHit, ray.tfar) == 32 && offsetof(RTCRayHit, hit.u) == 60 &&
                   offsetof(RTCRayHit, hit.v) == 64 && offsetof(RTCRayHit, hit.primID) == 68 &&
                   offsetof(RTCRayHit, hit.geomID) == 72);
-    __m256 H[4], F[16];  // Hit rows (t u v ·) or Embree's (u v primID geomID); TriangleShading
+    __m256 H[4], F[16];  // Hit rows (t u v ·) or Embree's (u v primID geomID); TriangleRecord
     for (int l = 0; l < 4; ++l) {
         H[l] = kSource == Source::HitAndRay ? rows(in[l], in[l + 4]) : rows(in[l] + 15, in[l + 4] + 15);
         for (int row = 0; row < 4; ++row) F[4 * row + l] = rows(ts[l] + 4 * row, ts[l + 4] + 4 * row);
     }
     transpose(H[0], H[1], H[2], H[3]);
-    for (int row = 0; row < 4; ++row)  // F[f] is float f of TriangleShading
+    for (int row = 0; row < 4; ++row)  // F[f] is float f of TriangleRecord
         transpose(F[4 * row], F[4 * row + 1], F[4 * row + 2], F[4 * row + 3]);
     const int first = kSource == Source::HitAndRay ? 1 : 0;
     const __m256 U = H[first], V = H[first + 1];
@@ -169,12 +169,13 @@ __attribute__((target("avx2"))) void Accel::surfacesAvx2(const Ray* rays, const 
                   offsetof(SurfacePoint, frontFace) == 44 && offsetof(SurfacePoint, object) == 48);
     static_assert(offsetof(Hit, t) == 0 && offsetof(Hit, u) == 4 && offsetof(Hit, v) == 8);
     static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && sizeof(Ray) == 32);
-    static_assert(offsetof(TriangleShading, uv) == 36 && offsetof(TriangleShading, part) == 60);
+    static_assert(offsetof(TriangleRecord, uv) == 36 && offsetof(TriangleRecord, part) == 60 &&
+                  offsetof(TriangleRecord, faceNormal) == 64);
     // Lanes without a hit (misses, the end of a partial group) read these harmless values
     // and become SurfacePoint() afterwards.
     static const Hit noHit{};
     static const Ray noRay{};
-    alignas(64) static const TriangleShading noShading{};
+    static const TriangleRecord noShading{};
     alignas(16) static const float noNormal[4] = {0.0f, 1.0f, 0.0f, 0.0f};
     for (size_t base = 0; base < n; base += 8) {
         const size_t m = std::min<size_t>(8, n - base);
@@ -186,11 +187,12 @@ __attribute__((target("avx2"))) void Accel::surfacesAvx2(const Ray* rays, const 
         for (size_t l = 0; l < 8; ++l) {
             valid[l] = l < m && hits[base + l].valid();
             const Hit& hit = valid[l] ? hits[base + l] : noHit;
-            const WorldMesh* w = valid[l] ? &meshes_[hit.object] : nullptr;
+            const TriangleRecord* rec =
+                valid[l] ? &records_[geometries_[hit.object].base + hit.triangle] : &noShading;
             h[l] = &hit.t;
             r[l] = valid[l] ? &rays[base + l].origin.x : &noRay.origin.x;
-            ts[l] = valid[l] ? &w->triangles[hit.triangle].normal[0].x : &noShading.normal[0].x;
-            g[l] = valid[l] ? &w->faceNormals[hit.triangle].x : noNormal;
+            ts[l] = &rec->normal[0].x;
+            g[l] = valid[l] ? &rec->faceNormal.x : noNormal;
         }
         auto finish = [&](SurfacePoint* dst) {
             for (size_t l = 0; l < m; ++l) {
@@ -201,9 +203,9 @@ __attribute__((target("avx2"))) void Accel::surfacesAvx2(const Ray* rays, const 
                 }
                 const Hit& hit = hits[base + l];
                 s.object = hit.object;
-                s.part = meshes_[hit.object].triangles[hit.triangle].part;
+                s.part = records_[geometries_[hit.object].base + hit.triangle].part;
                 s.triangle = hit.triangle;
-                s.material = meshes_[hit.object].material;
+                s.material = geometries_[hit.object].material;
             }
         };
         if (m == 8) {
@@ -222,7 +224,7 @@ __attribute__((target("avx2"))) void Accel::resolveStreamAvx2(const RTCRayHit* r
                                                               SurfacePoint* out, size_t n) const {
     static_assert(offsetof(SurfacePoint, part) == 52 && offsetof(SurfacePoint, triangle) == 56 &&
                   offsetof(SurfacePoint, material) == 64 && sizeof(SurfacePoint) == 72);
-    alignas(64) static const TriangleShading noShading{};
+    static const TriangleRecord noShading{};
     alignas(16) static const float noNormal[4] = {0.0f, 1.0f, 0.0f, 0.0f};
     for (size_t base = 0; base < n; base += 8) {
         const size_t m = std::min<size_t>(8, n - base);
@@ -234,11 +236,12 @@ __attribute__((target("avx2"))) void Accel::resolveStreamAvx2(const RTCRayHit* r
         for (size_t l = 0; l < 8; ++l) {
             const RTCRayHit& x = rh[base + (l < m ? l : 0)];  // past the end: any record
             valid[l] = l < m && x.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-            const WorldMesh* w = valid[l] ? &meshes_[x.hit.geomID] : nullptr;
+            const Geometry* geo = valid[l] ? &geometries_[x.hit.geomID] : nullptr;
+            const TriangleRecord* rec = valid[l] ? &records_[geo->base + x.hit.primID] : &noShading;
             in[l] = &x.ray.org_x;
-            ts[l] = valid[l] ? &w->triangles[x.hit.primID].normal[0].x : &noShading.normal[0].x;
-            g[l] = valid[l] ? &w->faceNormals[x.hit.primID].x : noNormal;
-            material[l] = valid[l] ? w->material : nullptr;
+            ts[l] = &rec->normal[0].x;
+            g[l] = valid[l] ? &rec->faceNormal.x : noNormal;
+            material[l] = valid[l] ? geo->material : nullptr;
         }
         auto finish = [&](SurfacePoint* dst) {
             for (size_t l = 0; l < m; ++l) {

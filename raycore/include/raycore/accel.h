@@ -97,18 +97,23 @@ class Accel {
     glm::vec3 offsetOrigin(const SurfacePoint& s, glm::vec3 dir) const;
 
   private:
-    // Everything resolving a hit reads, one 64-byte cache line per triangle: the three
-    // vertex normals and uvs and the part. Per vertex (sharing) it was an index line plus
-    // up to three vertex lines per hit — cache misses for incoherent rays.
-    struct alignas(64) TriangleShading {
+    // Everything resolving a hit reads about its triangle, in one record: the three vertex
+    // normals and uvs, the part and the unit face normal (world space, the winding of
+    // Embree's Ng), 80 bytes. All objects' records lie in one array, object after object,
+    // so a hit's record is records_[geometries_[object].base + triangle]: one dependent
+    // load chain and two adjacent cache lines, where a vector per object had the shading
+    // line and a face-normal line apart from it. The batch kernels read each record as
+    // five 16-byte rows (the last: face normal, pad).
+    struct alignas(16) TriangleRecord {
         glm::vec3 normal[3];
         glm::vec2 uv[3];
         uint32_t part;
+        glm::vec3 faceNormal;
+        uint32_t pad = 0;
     };
-    static_assert(sizeof(TriangleShading) == 64);
-    struct WorldMesh {
-        std::vector<TriangleShading> triangles;
-        std::vector<glm::vec3> faceNormals;  // unit geometric normal per triangle, world space
+    static_assert(sizeof(TriangleRecord) == 80);
+    struct Geometry {
+        uint32_t base = 0;  // its first triangle's index in records_
         const Material* material = nullptr;
     };
     // surface()'s arithmetic for a hit on (object, triangle), shared by surface() and
@@ -121,7 +126,8 @@ class Accel {
     void resolveStreamAvx2(const RTCRayHit* rh, SurfacePoint* out, size_t n) const;
     const Scene& scene_;
     RTCScene rtcScene_ = nullptr;
-    std::vector<WorldMesh> meshes_;
+    std::vector<TriangleRecord> records_;
+    std::vector<Geometry> geometries_;  // per object (Embree geomID)
     float epsilon_ = 1e-4f;
 };
 
