@@ -28,6 +28,7 @@
 
 #include <tbb/global_control.h>
 
+#include "core/error.h"
 #include "core/profile.h"
 #include "pipeline.h"
 #include "rasterizer/device.h"
@@ -534,6 +535,45 @@ TEST(PathsAgree, DrawsOfSeveralChunkBatchesGiveIdenticalBytesOnAnyThreadCount) {
             EXPECT_EQ(dev.counters().blendOps, expectedCounters.blendOps);
         }
     }
+}
+
+// The index check (a vectorized maximum, then a search only when it fails): a draw with
+// an index past its vertices is refused before it counts or writes anything, and the
+// message names the first bad index, wherever it lies (in the first 16, in the middle of
+// a long list, at the very end), on both paths.
+TEST(PathsAgree, AnIndexPastTheVerticesIsRefusedNamingTheFirstOne) {
+    std::vector<Vertex> verts(3);
+    verts[0].position = {-1.0f, -1.0f, 0.5f, 1.0f};
+    verts[1].position = {1.0f, -1.0f, 0.5f, 1.0f};
+    verts[2].position = {0.0f, 1.0f, 0.5f, 1.0f};
+    for (Path path : {Path::Reference, Path::Fast})
+        for (size_t at : {size_t(1), size_t(1000), size_t(2999)}) {
+            Device dev(profile(ProfileId::GeForce256), 32, 32, DepthFormat::None, {path, 1});
+            std::vector<uint32_t> indices(3000);
+            for (size_t k = 0; k < indices.size(); ++k) indices[k] = uint32_t(k % 3);
+            indices[at] = 3;                          // the first bad one: named
+            if (at + 1 < indices.size()) indices[at + 1] = 7;  // a larger one after it
+            std::string message;
+            try {
+                dev.draw(Primitive::TriangleList, VertexSpace::Pretransformed, verts, indices);
+            } catch (const InvalidState& e) {
+                message = e.what();
+            }
+            EXPECT_NE(message.find("index 3 is past the 3 vertices"), std::string::npos)
+                << "at " << at << ": '" << message << "'";
+            EXPECT_EQ(dev.counters().drawCalls, 0u);
+            indices[at] = 2;  // now only the 7 (or nothing) is wrong
+            message.clear();
+            try {
+                dev.draw(Primitive::TriangleList, VertexSpace::Pretransformed, verts, indices);
+            } catch (const InvalidState& e) {
+                message = e.what();
+            }
+            if (at + 1 < indices.size())
+                EXPECT_NE(message.find("index 7 is past"), std::string::npos) << message;
+            else
+                EXPECT_EQ(message, "") << "a valid draw was refused";
+        }
 }
 
 }  // namespace
