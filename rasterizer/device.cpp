@@ -83,8 +83,19 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     // One maximum over the indices first: that loop vectorizes, one that may throw at
     // each index does not (3% of a 40,000-triangle mesh's draw, measured). Only a draw
     // with a bad index searches for the first one, which the message names.
+    // Kept per chunk of a list's triangles too, for the one-thread path's vertex interleave
+    // (below), which would otherwise scan the indices again.
+    constexpr uint32_t kChunk = 1024;  // triangles per chunk on the fast path
+    std::vector<uint32_t> chunkMaxIndex;
+    chunkMaxIndex.reserve((indices.size() + 3 * kChunk - 1) / (3 * kChunk));
     uint32_t maxIndex = 0;
-    for (uint32_t i : indices) maxIndex = std::max(maxIndex, i);
+    for (size_t b = 0; b < indices.size(); b += 3 * kChunk) {
+        const size_t e = std::min(indices.size(), b + 3 * kChunk);
+        uint32_t m = 0;
+        for (size_t k = b; k < e; ++k) m = std::max(m, indices[k]);
+        chunkMaxIndex.push_back(m);
+        maxIndex = std::max(maxIndex, m);
+    }
     if (!indices.empty() && maxIndex >= vertices.size())
         for (uint32_t i : indices)
             if (i >= vertices.size())
@@ -171,7 +182,6 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         // Fast path: vertices and triangle chunks in parallel (each writes only its own
         // output), then tiles in parallel; a tile walks the chunks and their triangles in
         // submission order, so each pixel sees its triangles in the reference's order.
-        constexpr uint32_t kChunk = 1024;
         const int tilesX = (fb.width() + kTileSize - 1) / kTileSize;
         const int tilesY = (fb.height() + kTileSize - 1) / kTileSize;
         const uint32_t chunkCount = (triangles + kChunk - 1) / kChunk;
@@ -195,7 +205,13 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
             TriangleChunk& ch = scratchChunks[0];
             for (uint32_t b = 0; b < triangles; b += kChunk) {
                 const uint32_t e = std::min(triangles, b + kChunk);
-                const size_t needed = size_t(lastVertexUsed(primitive, b, e, indices)) + 1;
+                // A list's chunk uses indices [3b, 3e): its block's maximum (the last
+                // block also covers the indices past the last whole triangle, all valid:
+                // a few more vertices transformed early, the same bytes).
+                const uint32_t last = primitive == Primitive::TriangleList && !indices.empty()
+                                          ? chunkMaxIndex[b / kChunk]
+                                          : lastVertexUsed(primitive, b, e, indices);
+                const size_t needed = size_t(last) + 1;
                 if (needed > transformed) {
                     processRange(transformed, needed);
                     transformed = needed;
