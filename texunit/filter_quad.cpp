@@ -424,7 +424,8 @@ struct Lanes8 {
     // than eight scalar loads (AMD EPYC, tex_bilinear_2d: the sampler 28 → 31 % of the
     // frame). When every b is the texel after its a (QuadFootprint::adjacent), (a b) is one
     // 8-byte load of two texels that both exist: the same values, half the loads.
-    auto two = [&](int p) {
+    // (Forced inline: in the pair kernel GCC's inliner otherwise gives up on it.)
+    auto two = [&](int p) __attribute__((always_inline)) {
         if (adjacent) return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(d + ia[p]));
         return _mm_unpacklo_epi32(load4(d + ia[p]), load4(d + ib[p]));
     };
@@ -579,18 +580,17 @@ template <bool kTwoD>
         return rowPairs8(d, fp.i00[li], fp.i01[li], we, wo, fp.adjacent[li]);
     }
 }
+// The rounded texels of a quad from its level sums `a` (and `b`, the second level's, when
+// ch.blend).
 template <bool kTwoD>
-[[gnu::always_inline]] RG_AVX2 inline __m128i gatherQuadAvx2(const QuadSampler& qs, const QuadFootprint& fp) {
-    const LevelChoice& ch = fp.ch;
-    if (ch.filter != FilterMode::Linear) return gatherQuad<kTwoD>(qs, fp);
-    const Lanes8 a = levelSums8<kTwoD>(qs.level[size_t(ch.level0)].data, fp, 0);
+[[gnu::always_inline]] RG_AVX2 inline __m128i finishLevels8(const LevelChoice& ch, const Lanes8& a,
+                                                           const Lanes8* b) {
     if (ch.blend) {
-        const Lanes8 b = levelSums8<kTwoD>(qs.level[size_t(ch.level1)].data, fp, 1);
         const __m256i w = _mm256_set1_epi32(int32_t((uint32_t(ch.frac) << 16) | uint32_t(256 - ch.frac)));
         if constexpr (kTwoD)
-            return packQuad8({bilinearBlend8(a.even, b.even, w), bilinearBlend8(a.odd, b.odd, w)});
+            return packQuad8({bilinearBlend8(a.even, b->even, w), bilinearBlend8(a.odd, b->odd, w)});
         else
-            return packQuad8({pairBlend8(a.even, b.even, w), pairBlend8(a.odd, b.odd, w)});
+            return packQuad8({pairBlend8(a.even, b->even, w), pairBlend8(a.odd, b->odd, w)});
     }
     if constexpr (kTwoD) {
         const __m256i r = _mm256_set1_epi32((1 << 23) + (1 << 15));
@@ -601,6 +601,17 @@ template <bool kTwoD>
         return packQuad8({_mm256_srai_epi32(_mm256_add_epi32(a.even, r), 8),
                           _mm256_srai_epi32(_mm256_add_epi32(a.odd, r), 8)});
     }
+}
+template <bool kTwoD>
+[[gnu::always_inline]] RG_AVX2 inline __m128i gatherQuadAvx2(const QuadSampler& qs, const QuadFootprint& fp) {
+    const LevelChoice& ch = fp.ch;
+    if (ch.filter != FilterMode::Linear) return gatherQuad<kTwoD>(qs, fp);
+    const Lanes8 a = levelSums8<kTwoD>(qs.level[size_t(ch.level0)].data, fp, 0);
+    if (ch.blend) {
+        const Lanes8 b = levelSums8<kTwoD>(qs.level[size_t(ch.level1)].data, fp, 1);
+        return finishLevels8<kTwoD>(ch, a, &b);
+    }
+    return finishLevels8<kTwoD>(ch, a, nullptr);
 }
 
 template <Target kTarget, Addr kS, Addr kT>
@@ -692,6 +703,149 @@ RG_AVX2 uint64_t cascadeTwo(const CompiledStages& c, const FragmentQuad& q, __m1
     out = r[arg::Current];
     return n;
 }
+// ---- both quads of a pair through one 8-lane footprint -----------------------------------
+// When the two quads of a pair get LINEAR level choices of the same levels (always, for a
+// constant choice; their blend fractions may differ), their tap indices and weights come from one 8-lane pass per axis (quad h in
+// lanes 4h..4h+3) and stay in registers: the same float operations lane for lane as
+// prepareLevelsAvx2 (so the same integers), the same sums as gatherQuadAvx2.
+
+// ⌊c·n·256⌋ per lane, NaNs as 0: prepareLevelsAvx2's sub-texel steps.
+[[gnu::always_inline]] RG_AVX2 inline __m256i subTexel8(__m256 c, int32_t n) {
+    c = _mm256_and_ps(c, _mm256_cmp_ps(c, c, _CMP_ORD_Q));
+    __m256 u = _mm256_mul_ps(c, _mm256_set1_ps(float(n)));
+    u = _mm256_and_ps(u, _mm256_cmp_ps(u, u, _CMP_ORD_Q));
+    u = _mm256_min_ps(_mm256_max_ps(u, _mm256_set1_ps(-4194304.0f)), _mm256_set1_ps(4194304.0f));
+    const __m256 v = _mm256_mul_ps(u, _mm256_set1_ps(float(1 << kSubTexelBits)));
+    const __m256i sub = _mm256_cvttps_epi32(v);
+    return _mm256_add_epi32(
+        sub, _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(sub), v, _CMP_GT_OQ)));
+}
+struct Axis8 {
+    __m256i i0, i1, w;  // tap indices and packed weight pairs, eight pixels
+};
+template <Addr kA>
+[[gnu::always_inline]] RG_AVX2 inline Axis8 linearAxis8(__m256 c, int32_t n) {
+    const __m256i sub = _mm256_sub_epi32(subTexel8(c, n), _mm256_set1_epi32(1 << (kSubTexelBits - 1)));
+    const __m256i b = _mm256_srai_epi32(sub, kSubTexelBits);
+    const __m256i frac = _mm256_and_si256(sub, _mm256_set1_epi32((1 << kSubTexelBits) - 1));
+    const __m256i top = _mm256_set1_epi32(n - 1);
+    return {address8<kA>(b, top), address8<kA>(_mm256_add_epi32(b, _mm256_set1_epi32(1)), top),
+            _mm256_or_si256(_mm256_slli_epi32(frac, 16),
+                            _mm256_sub_epi32(_mm256_set1_epi32(1 << kSubTexelBits), frac))};
+}
+// spreadPixels of quad h's lanes of an 8-lane register.
+[[gnu::always_inline]] RG_AVX2 inline void spreadQuad(__m256i v, int h, __m256i& even, __m256i& odd) {
+    const int b = 4 * h;
+    even = _mm256_permutevar8x32_epi32(v, _mm256_setr_epi32(b, b, b, b, b + 2, b + 2, b + 2, b + 2));
+    odd = _mm256_permutevar8x32_epi32(v, _mm256_setr_epi32(b + 1, b + 1, b + 1, b + 1, b + 3, b + 3,
+                                                           b + 3, b + 3));
+}
+[[gnu::always_inline]] RG_AVX2 inline void store8(int32_t* dst, __m256i v) {
+    _mm256_store_si256(reinterpret_cast<__m256i*>(dst), v);
+}
+// One level's sums (levelSums8) of both quads: S − 2^23 (2D, cube) or R − 2^15 (1D).
+template <Target kTarget, Addr kS, Addr kT>
+[[gnu::always_inline]] RG_AVX2 inline void levelSumsPair(const LevelView& L, __m256 s, __m256 t,
+                                                         __m256i face8, Lanes8 sum[2]) {
+    constexpr bool kTwoD = kTarget != Target::OneD;
+    const Axis8 ax = linearAxis8<kS>(s, L.width);
+    const __m256i faceBase = kTarget == Target::Cube
+                                 ? _mm256_mullo_epi32(face8, _mm256_set1_epi32(int32_t(L.faceStride)))
+                                 : _mm256_setzero_si256();
+    const int adj = _mm256_movemask_epi8(
+        _mm256_cmpeq_epi32(ax.i1, _mm256_add_epi32(ax.i0, _mm256_set1_epi32(1))));
+    const bool adjacent[2] = {(adj & 0xFFFF) == 0xFFFF, (uint32_t(adj) >> 16) == 0xFFFFu};
+    alignas(32) int32_t i00[8], i01[8], i10[8], i11[8];
+    if constexpr (kTwoD) {
+        const Axis8 ay = linearAxis8<kT>(t, L.height);
+        const __m256i wv = _mm256_set1_epi32(L.width);
+        const __m256i row0 = _mm256_add_epi32(faceBase, _mm256_mullo_epi32(ay.i0, wv));
+        const __m256i row1 = _mm256_add_epi32(faceBase, _mm256_mullo_epi32(ay.i1, wv));
+        store8(i00, _mm256_add_epi32(row0, ax.i0));
+        store8(i01, _mm256_add_epi32(row0, ax.i1));
+        store8(i10, _mm256_add_epi32(row1, ax.i0));
+        store8(i11, _mm256_add_epi32(row1, ax.i1));
+        for (int h = 0; h < 2; ++h) {
+            __m256i wxe, wxo, wye, wyo;
+            spreadQuad(ax.w, h, wxe, wxo);
+            spreadQuad(ay.w, h, wye, wyo);
+            const Lanes8 r0 = rowPairs8(L.data, i00 + 4 * h, i01 + 4 * h, wxe, wxo, adjacent[h]);
+            const Lanes8 r1 = rowPairs8(L.data, i10 + 4 * h, i11 + 4 * h, wxe, wxo, adjacent[h]);
+            sum[h] = {
+                _mm256_madd_epi16(interleaveHalves8(_mm256_packs_epi32(r0.even, r1.even)), wye),
+                _mm256_madd_epi16(interleaveHalves8(_mm256_packs_epi32(r0.odd, r1.odd)), wyo)};
+        }
+    } else {
+        (void)t;
+        store8(i00, _mm256_add_epi32(faceBase, ax.i0));
+        store8(i01, _mm256_add_epi32(faceBase, ax.i1));
+        for (int h = 0; h < 2; ++h) {
+            __m256i we, wo;
+            spreadQuad(ax.w, h, we, wo);
+            sum[h] = rowPairs8(L.data, i00 + 4 * h, i01 + 4 * h, we, wo, adjacent[h]);
+        }
+    }
+}
+// Both quads' texels for LINEAR choices `ch` of the same levels (the taps depend on the
+// levels only; each quad's own frac blends them); returns the fetches of both.
+template <Target kTarget, Addr kS, Addr kT>
+[[gnu::always_inline]] RG_AVX2 inline uint64_t gatherPair(const QuadSampler& qs, const LevelChoice ch[2],
+                                                          const __m128 s[2], const __m128 t[2],
+                                                          const __m128i face4[2], __m128i tex[2]) {
+    constexpr bool kTwoD = kTarget != Target::OneD;
+    const __m256 s8 = _mm256_set_m128(s[1], s[0]);
+    const __m256 t8 = kTwoD ? _mm256_set_m128(t[1], t[0]) : _mm256_setzero_ps();
+    const __m256i face8 =
+        kTarget == Target::Cube ? _mm256_set_m128i(face4[1], face4[0]) : _mm256_setzero_si256();
+    Lanes8 a[2];
+    levelSumsPair<kTarget, kS, kT>(qs.level[size_t(ch[0].level0)], s8, t8, face8, a);
+    if (ch[0].blend) {
+        Lanes8 b[2];
+        levelSumsPair<kTarget, kS, kT>(qs.level[size_t(ch[0].level1)], s8, t8, face8, b);
+        for (int h = 0; h < 2; ++h) tex[h] = finishLevels8<kTwoD>(ch[h], a[h], &b[h]);
+    } else {
+        for (int h = 0; h < 2; ++h) tex[h] = finishLevels8<kTwoD>(ch[h], a[h], nullptr);
+    }
+    return 2 * uint64_t(kTwoD ? 4 : 2) * uint64_t(ch[0].blend ? 2 : 1) * 4;
+}
+// cascadeStageOfPair for both quads (both covered) of a pair.
+template <Target kT, Addr kS, Addr kU, bool kTexCur>
+[[gnu::always_inline]] RG_AVX2 inline uint64_t cascadeStageOfBoth(const CompiledStages& c, int i,
+                                                                  const FragmentQuadPair& p,
+                                                                  quad::Regs r[2]) {
+    const QuadSampler& qs = c.stage[size_t(i)];
+    const StageState& st = c.state[size_t(i)];
+    const float(&tc)[4][8] = p.texCoord[st.texCoordIndex];
+    __m128 s[2], t[2];
+    int face[2][4];
+    __m128i face4[2];
+    LevelChoice ch[2];
+    for (int h = 0; h < 2; ++h)
+        ch[h] = projectLanes<kT>(qs, _mm_load_ps(&tc[0][4 * h]), _mm_load_ps(&tc[1][4 * h]),
+                                 _mm_load_ps(&tc[2][4 * h]), _mm_load_ps(&tc[3][4 * h]), s[h],
+                                 t[h], face[h], face4[h]);
+    uint64_t n = 0;
+    __m128i tex[2];
+    if (ch[0].filter == FilterMode::Linear && ch[1].filter == FilterMode::Linear &&
+        ch[0].level0 == ch[1].level0 && ch[0].level1 == ch[1].level1 &&
+        ch[0].blend == ch[1].blend) {
+        n = gatherPair<kT, kS, kU>(qs, ch, s, t, face4, tex);
+    } else {
+        for (int h = 0; h < 2; ++h) {
+            QuadFootprint fp;
+            n += prepareLevelsAvx2<kT, kS, kU>(qs, ch[h], s[h], t[h], face4[h], fp);
+            tex[h] = gatherQuadAvx2<kT != Target::OneD>(qs, fp);
+        }
+    }
+    for (int h = 0; h < 2; ++h) {
+        r[h][arg::Texture] = tex[h];
+        if constexpr (kTexCur)
+            r[h][arg::Current] = quad::mulDiv255(r[h][arg::Texture], r[h][arg::Current]);
+        else
+            r[h][arg::Current] = quad::evaluate<TextureOp::Modulate, TextureOp::Modulate>(st, r[h]);
+    }
+    return n;
+}
 // ---- whole cascades of a FragmentQuadPair ------------------------------------------------
 // cascadeStage for quad h of the pair: its coordinates read as the four component rows
 // projectQuad would transpose them into (lanes 4h..4h+3), the rest the same code.
@@ -737,6 +891,14 @@ template <bool kTexCur>
 template <Target kT, Addr kS, Addr kU, bool kTexCur>
 RG_AVX2 uint64_t cascadePairOne(const CompiledStages& c, const FragmentQuadPair& p,
                                 __m128i tfactor, Rgba8* out) {
+    if (p.coverage[0] && p.coverage[1]) {
+        quad::Regs r[2] = {cascadeInputsOfPair<kTexCur>(p, 0, tfactor),
+                           cascadeInputsOfPair<kTexCur>(p, 1, tfactor)};
+        const uint64_t n = cascadeStageOfBoth<kT, kS, kU, kTexCur>(c, 0, p, r);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out), r[0][arg::Current]);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4), r[1][arg::Current]);
+        return n;
+    }
     uint64_t n = 0;
     for (int h = 0; h < 2; ++h) {
         __m128i* dst = reinterpret_cast<__m128i*>(out + 4 * h);
@@ -753,6 +915,15 @@ RG_AVX2 uint64_t cascadePairOne(const CompiledStages& c, const FragmentQuadPair&
 template <Target kT0, Addr kS0, Addr kU0, Target kT1, Addr kS1, Addr kU1, bool kTexCur>
 RG_AVX2 uint64_t cascadePairTwo(const CompiledStages& c, const FragmentQuadPair& p,
                                 __m128i tfactor, Rgba8* out) {
+    if (p.coverage[0] && p.coverage[1]) {
+        quad::Regs r[2] = {cascadeInputsOfPair<kTexCur>(p, 0, tfactor),
+                           cascadeInputsOfPair<kTexCur>(p, 1, tfactor)};
+        uint64_t n = cascadeStageOfBoth<kT0, kS0, kU0, kTexCur>(c, 0, p, r);
+        n += cascadeStageOfBoth<kT1, kS1, kU1, kTexCur>(c, 1, p, r);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out), r[0][arg::Current]);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4), r[1][arg::Current]);
+        return n;
+    }
     uint64_t n = 0;
     for (int h = 0; h < 2; ++h) {
         __m128i* dst = reinterpret_cast<__m128i*>(out + 4 * h);
