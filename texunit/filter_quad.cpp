@@ -765,6 +765,7 @@ template <Target kTarget, Addr kS, Addr kT>
         store8(i01, _mm256_add_epi32(row0, ax.i1));
         store8(i10, _mm256_add_epi32(row1, ax.i0));
         store8(i11, _mm256_add_epi32(row1, ax.i1));
+        #pragma GCC unroll 2
         for (int h = 0; h < 2; ++h) {
             __m256i wxe, wxo, wye, wyo;
             spreadQuad(ax.w, h, wxe, wxo);
@@ -779,6 +780,7 @@ template <Target kTarget, Addr kS, Addr kT>
         (void)t;
         store8(i00, _mm256_add_epi32(faceBase, ax.i0));
         store8(i01, _mm256_add_epi32(faceBase, ax.i1));
+        #pragma GCC unroll 2
         for (int h = 0; h < 2; ++h) {
             __m256i we, wo;
             spreadQuad(ax.w, h, we, wo);
@@ -802,8 +804,10 @@ template <Target kTarget, Addr kS, Addr kT>
     if (ch[0].blend) {
         Lanes8 b[2];
         levelSumsPair<kTarget, kS, kT>(qs.level[size_t(ch[0].level1)], s8, t8, face8, b);
+        #pragma GCC unroll 2
         for (int h = 0; h < 2; ++h) tex[h] = finishLevels8<kTwoD>(ch[h], a[h], &b[h]);
     } else {
+        #pragma GCC unroll 2
         for (int h = 0; h < 2; ++h) tex[h] = finishLevels8<kTwoD>(ch[h], a[h], nullptr);
     }
     return 2 * uint64_t(kTwoD ? 4 : 2) * uint64_t(ch[0].blend ? 2 : 1) * 4;
@@ -820,6 +824,7 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
     int face[2][4];
     __m128i face4[2];
     LevelChoice ch[2];
+    #pragma GCC unroll 2
     for (int h = 0; h < 2; ++h)
         ch[h] = projectLanes<kT>(qs, _mm_load_ps(&tc[0][4 * h]), _mm_load_ps(&tc[1][4 * h]),
                                  _mm_load_ps(&tc[2][4 * h]), _mm_load_ps(&tc[3][4 * h]), s[h],
@@ -831,12 +836,14 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
         ch[0].blend == ch[1].blend) {
         n = gatherPair<kT, kS, kU>(qs, ch, s, t, face4, tex);
     } else {
+        #pragma GCC unroll 2
         for (int h = 0; h < 2; ++h) {
             QuadFootprint fp;
             n += prepareLevelsAvx2<kT, kS, kU>(qs, ch[h], s[h], t[h], face4[h], fp);
             tex[h] = gatherQuadAvx2<kT != Target::OneD>(qs, fp);
         }
     }
+    #pragma GCC unroll 2
     for (int h = 0; h < 2; ++h) {
         r[h][arg::Texture] = tex[h];
         if constexpr (kTexCur)
