@@ -103,46 +103,75 @@ inline Float4 max(Float4 a, Float4 b) { return select(a < b, b, a); }
 inline Float4 sqrt(Float4 a) { return Float4(_mm_sqrt_ps(a.v)); }
 inline Float4 abs(Float4 a) { return Float4(_mm_andnot_ps(_mm_set1_ps(-0.0f), a.v)); }
 
-struct Vec3x4 {
-    Float4 x, y, z;
-    Vec3x4() = default;
-    Vec3x4(Float4 a, Float4 b, Float4 c) : x(a), y(b), z(c) {}
-    friend Vec3x4 operator+(const Vec3x4& a, const Vec3x4& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-    friend Vec3x4 operator-(const Vec3x4& a, const Vec3x4& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-    friend Vec3x4 operator*(const Vec3x4& a, Float4 s) { return {a.x * s, a.y * s, a.z * s}; }
-    friend Vec3x4 operator*(const Vec3x4& a, const Vec3x4& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+// Vectors of three and four components over any lane type F: Float4 (one quad), FloatQ<N>
+// (N quads of Float4) and FloatW<N> (quad_program_wide.h). One definition, so a program's
+// vector arithmetic is the same operations in the same order whichever context runs it.
+// Members that only some lane types support (fromLanes, quad, setQuad, setPair) are
+// templates' members, compiled only where used.
+template <class F>
+struct Vec3L {
+    F x, y, z;
+    Vec3L() = default;
+    Vec3L(const F& a, const F& b, const F& c) : x(a), y(b), z(c) {}
+    friend Vec3L operator+(const Vec3L& a, const Vec3L& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+    friend Vec3L operator-(const Vec3L& a, const Vec3L& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+    friend Vec3L operator*(const Vec3L& a, const F& s) { return {a.x * s, a.y * s, a.z * s}; }
+    friend Vec3L operator*(const Vec3L& a, const Vec3L& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 };
 // glm::dot's order: (x·x + y·y) + z·z.
-inline Float4 dot(const Vec3x4& a, const Vec3x4& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
-inline Vec3x4 select(Mask4 m, const Vec3x4& a, const Vec3x4& b) {
+template <class F>
+F dot(const Vec3L<F>& a, const Vec3L<F>& b) {
+    return (a.x * b.x + a.y * b.y) + a.z * b.z;
+}
+template <class M, class F>
+Vec3L<F> select(const M& m, const Vec3L<F>& a, const Vec3L<F>& b) {
     return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
 }
 
-struct Vec4x4 {
-    Float4 x, y, z, w;
-    Vec4x4() = default;
-    Vec4x4(Float4 a, Float4 b, Float4 c, Float4 d) : x(a), y(b), z(c), w(d) {}
-    // Four per-pixel vectors (lane i = pixel i) as one vector of lanes.
-    static Vec4x4 fromLanes(const std::array<glm::vec4, 4>& p) {
-        return {Float4::lanes(p[0].x, p[1].x, p[2].x, p[3].x), Float4::lanes(p[0].y, p[1].y, p[2].y, p[3].y),
-                Float4::lanes(p[0].z, p[1].z, p[2].z, p[3].z), Float4::lanes(p[0].w, p[1].w, p[2].w, p[3].w)};
+template <class F>
+struct Vec4L {
+    F x, y, z, w;
+    Vec4L() = default;
+    Vec4L(const F& a, const F& b, const F& c, const F& d) : x(a), y(b), z(c), w(d) {}
+    // Four per-pixel vectors (lane i = pixel i) as one vector of lanes (Float4).
+    static Vec4L fromLanes(const std::array<glm::vec4, 4>& p) {
+        return {F::lanes(p[0].x, p[1].x, p[2].x, p[3].x), F::lanes(p[0].y, p[1].y, p[2].y, p[3].y),
+                F::lanes(p[0].z, p[1].z, p[2].z, p[3].z), F::lanes(p[0].w, p[1].w, p[2].w, p[3].w)};
     }
-    Vec3x4 xyz() const { return {x, y, z}; }
+    Vec3L<F> xyz() const { return {x, y, z}; }
     glm::vec4 lane(int i) const { return {x[i], y[i], z[i], w[i]}; }
-    friend Vec4x4 operator+(const Vec4x4& a, const Vec4x4& b) {
-        return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w};
+    // Quad i of a group (FloatQ, FloatW) as one Float4 vector, and back.
+    auto quad(int i) const {
+        using Q = decltype(x.quad(i));
+        return Vec4L<Q>{x.quad(i), y.quad(i), z.quad(i), w.quad(i)};
     }
-    friend Vec4x4 operator-(const Vec4x4& a, const Vec4x4& b) {
-        return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w};
+    template <class Q>
+    void setQuad(int i, const Vec4L<Q>& v) {
+        x.setQuad(i, v.x);
+        y.setQuad(i, v.y);
+        z.setQuad(i, v.z);
+        w.setQuad(i, v.w);
     }
-    friend Vec4x4 operator*(const Vec4x4& a, Float4 s) { return {a.x * s, a.y * s, a.z * s, a.w * s}; }
-    friend Vec4x4 operator*(const Vec4x4& a, const Vec4x4& b) {
-        return {a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w};
+    // FloatW: register k from quads 2k and 2k + 1 (FloatW::setPair).
+    template <class Q>
+    void setPair(int k, const Vec4L<Q>& a, const Vec4L<Q>& b) {
+        x.setPair(k, a.x, b.x);
+        y.setPair(k, a.y, b.y);
+        z.setPair(k, a.z, b.z);
+        w.setPair(k, a.w, b.w);
     }
+    friend Vec4L operator+(const Vec4L& a, const Vec4L& b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
+    friend Vec4L operator-(const Vec4L& a, const Vec4L& b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
+    friend Vec4L operator*(const Vec4L& a, const F& s) { return {a.x * s, a.y * s, a.z * s, a.w * s}; }
+    friend Vec4L operator*(const Vec4L& a, const Vec4L& b) { return {a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w}; }
 };
-inline Vec4x4 select(Mask4 m, const Vec4x4& a, const Vec4x4& b) {
+template <class M, class F>
+Vec4L<F> select(const M& m, const Vec4L<F>& a, const Vec4L<F>& b) {
     return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z), select(m, a.w, b.w)};
 }
+
+using Vec3x4 = Vec3L<Float4>;
+using Vec4x4 = Vec4L<Float4>;
 
 namespace detail {
 
@@ -420,6 +449,8 @@ struct FloatQ {
     FloatQ() = default;
     FloatQ(float s) { q.fill(Float4(s)); }  // NOLINT: broadcasts like a scalar
     float operator[](int i) const { return q[size_t(i >> 2)][i & 3]; }
+    Float4 quad(int i) const { return q[size_t(i)]; }
+    void setQuad(int i, Float4 f) { q[size_t(i)] = f; }
     template <class F>
     static FloatQ fromQuads(F f) {  // quad i: f(i)
         FloatQ r;
@@ -479,47 +510,9 @@ FloatQ<N> abs(const FloatQ<N>& a) {
 }
 
 template <int N>
-struct Vec3Q {
-    FloatQ<N> x, y, z;
-    Vec3Q() = default;
-    Vec3Q(const FloatQ<N>& a, const FloatQ<N>& b, const FloatQ<N>& c) : x(a), y(b), z(c) {}
-    friend Vec3Q operator+(const Vec3Q& a, const Vec3Q& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-    friend Vec3Q operator-(const Vec3Q& a, const Vec3Q& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-    friend Vec3Q operator*(const Vec3Q& a, const FloatQ<N>& s) { return {a.x * s, a.y * s, a.z * s}; }
-    friend Vec3Q operator*(const Vec3Q& a, const Vec3Q& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-};
+using Vec3Q = Vec3L<FloatQ<N>>;
 template <int N>
-FloatQ<N> dot(const Vec3Q<N>& a, const Vec3Q<N>& b) {  // glm::dot's order, as dot(Vec3x4)
-    return (a.x * b.x + a.y * b.y) + a.z * b.z;
-}
-template <int N>
-Vec3Q<N> select(const MaskQ<N>& m, const Vec3Q<N>& a, const Vec3Q<N>& b) {
-    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
-}
-
-template <int N>
-struct Vec4Q {
-    FloatQ<N> x, y, z, w;
-    Vec4Q() = default;
-    Vec4Q(const FloatQ<N>& a, const FloatQ<N>& b, const FloatQ<N>& c, const FloatQ<N>& d)
-        : x(a), y(b), z(c), w(d) {}
-    Vec3Q<N> xyz() const { return {x, y, z}; }
-    Vec4x4 quad(int i) const { return {x.q[size_t(i)], y.q[size_t(i)], z.q[size_t(i)], w.q[size_t(i)]}; }
-    void setQuad(int i, const Vec4x4& v) {
-        x.q[size_t(i)] = v.x;
-        y.q[size_t(i)] = v.y;
-        z.q[size_t(i)] = v.z;
-        w.q[size_t(i)] = v.w;
-    }
-    friend Vec4Q operator+(const Vec4Q& a, const Vec4Q& b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
-    friend Vec4Q operator-(const Vec4Q& a, const Vec4Q& b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
-    friend Vec4Q operator*(const Vec4Q& a, const FloatQ<N>& s) { return {a.x * s, a.y * s, a.z * s, a.w * s}; }
-    friend Vec4Q operator*(const Vec4Q& a, const Vec4Q& b) { return {a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w}; }
-};
-template <int N>
-Vec4Q<N> select(const MaskQ<N>& m, const Vec4Q<N>& a, const Vec4Q<N>& b) {
-    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z), select(m, a.w, b.w)};
-}
+using Vec4Q = Vec4L<FloatQ<N>>;
 
 // What a program sees of N quads: the QuadContext interface on 4N lanes, each call the
 // QuadContext call of every quad (quad i: lanes 4i … 4i + 3).

@@ -159,53 +159,9 @@ FloatW<N> abs(const FloatW<N>& a) {  // the sign bit cleared, as abs(Float4)
 }
 
 template <int N>
-struct Vec3W {
-    FloatW<N> x, y, z;
-    Vec3W() = default;
-    Vec3W(const FloatW<N>& a, const FloatW<N>& b, const FloatW<N>& c) : x(a), y(b), z(c) {}
-    friend Vec3W operator+(const Vec3W& a, const Vec3W& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-    friend Vec3W operator-(const Vec3W& a, const Vec3W& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-    friend Vec3W operator*(const Vec3W& a, const FloatW<N>& s) { return {a.x * s, a.y * s, a.z * s}; }
-    friend Vec3W operator*(const Vec3W& a, const Vec3W& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-};
+using Vec3W = Vec3L<FloatW<N>>;
 template <int N>
-FloatW<N> dot(const Vec3W<N>& a, const Vec3W<N>& b) {  // glm::dot's order, as dot(Vec3x4)
-    return (a.x * b.x + a.y * b.y) + a.z * b.z;
-}
-template <int N>
-Vec3W<N> select(const MaskW<N>& m, const Vec3W<N>& a, const Vec3W<N>& b) {
-    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
-}
-
-template <int N>
-struct Vec4W {
-    FloatW<N> x, y, z, w;
-    Vec4W() = default;
-    Vec4W(const FloatW<N>& a, const FloatW<N>& b, const FloatW<N>& c, const FloatW<N>& d)
-        : x(a), y(b), z(c), w(d) {}
-    Vec3W<N> xyz() const { return {x, y, z}; }
-    Vec4x4 quad(int i) const { return {x.quad(i), y.quad(i), z.quad(i), w.quad(i)}; }
-    void setQuad(int i, const Vec4x4& v) {
-        x.setQuad(i, v.x);
-        y.setQuad(i, v.y);
-        z.setQuad(i, v.z);
-        w.setQuad(i, v.w);
-    }
-    void setPair(int k, const Vec4x4& a, const Vec4x4& b) {
-        x.setPair(k, a.x, b.x);
-        y.setPair(k, a.y, b.y);
-        z.setPair(k, a.z, b.z);
-        w.setPair(k, a.w, b.w);
-    }
-    friend Vec4W operator+(const Vec4W& a, const Vec4W& b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
-    friend Vec4W operator-(const Vec4W& a, const Vec4W& b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
-    friend Vec4W operator*(const Vec4W& a, const FloatW<N>& s) { return {a.x * s, a.y * s, a.z * s, a.w * s}; }
-    friend Vec4W operator*(const Vec4W& a, const Vec4W& b) { return {a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w}; }
-};
-template <int N>
-Vec4W<N> select(const MaskW<N>& m, const Vec4W<N>& a, const Vec4W<N>& b) {
-    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z), select(m, a.w, b.w)};
-}
+using Vec4W = Vec4L<FloatW<N>>;
 
 namespace detail {
 
