@@ -1,6 +1,8 @@
 // Helpers shared by the rasterizer tests: devices, vertices, frame hashes.
 #pragma once
 
+#include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -11,6 +13,17 @@
 namespace rg::testing {
 
 using raster::sha256Hex;
+
+// Seeded draws for the randomized tests (std::mt19937_64; the same cases on every run).
+struct Rng {
+    std::mt19937_64 g;
+    explicit Rng(uint64_t seed) : g(seed) {}
+    int i(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(g); }
+    int64_t i64(int64_t lo, int64_t hi) { return std::uniform_int_distribution<int64_t>(lo, hi)(g); }
+    float f(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
+    bool p(double prob) { return std::bernoulli_distribution(prob)(g); }
+    uint8_t byte() { return uint8_t(i(0, 255)); }
+};
 
 inline raster::Vertex tv(float x, float y, float z = 0.5f, float rhw = 1.0f,
                          Rgba8 diffuse = {255, 255, 255, 255}, Rgba8 specular = {0, 0, 0, 0}) {

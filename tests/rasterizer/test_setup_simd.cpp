@@ -31,6 +31,7 @@
 #include "core/error.h"
 #include "core/profile.h"
 #include "pipeline.h"
+#include "raster_test_util.h"
 #include "rasterizer/device.h"
 #include "rasterizer/framebuffer.h"
 #include "texunit/texture_units.h"
@@ -40,14 +41,6 @@ namespace {
 
 using namespace rg::raster;
 using namespace rg::raster::detail;
-
-struct Rng {
-    std::mt19937_64 g;
-    explicit Rng(uint64_t seed) : g(seed) {}
-    int64_t i(int64_t lo, int64_t hi) { return std::uniform_int_distribution<int64_t>(lo, hi)(g); }
-    float f(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
-    bool p(double prob) { return std::bernoulli_distribution(prob)(g); }
-};
 
 template <class T>
 bool sameBits(const T& a, const T& b) {
@@ -79,7 +72,7 @@ ProcessedVertex vertexAt(Rng& r, int s, int64_t sx, int64_t sy, bool constantW) 
     v.wz = r.p(0.1) ? 0.5f : r.f(0.0f, 1.0f);
     v.invW = constantW ? 1.0f : r.f(0.01f, 4.0f);
     v.clip = glm::vec4(v.wx, v.wy, v.wz, 1.0f) / v.invW;
-    for (int a = 0; a < kColorAttrs; ++a) v.attr[a] = float(r.i(0, 255));
+    for (int a = 0; a < kColorAttrs; ++a) v.attr[a] = float(r.i64(0, 255));
     for (int a = kColorAttrs; a < kMaxAttrs; ++a) v.attr[a] = r.f(-8.0f, 8.0f);
     v.outcode = 0;
     v.valid = true;
@@ -92,30 +85,30 @@ void runRounds(uint64_t seed, int rounds) {
     for (int round = 0; round < rounds; ++round) {
         // ---- a random draw context -------------------------------------------------------
         const int s = r.p(0.5) ? 4 : 8;
-        const int W = int(r.i(8, 700)), H = int(r.i(8, 500));
+        const int W = int(r.i64(8, 700)), H = int(r.i64(8, 500));
         Framebuffer fb(W, H, r.p(0.5) ? DepthFormat::D24 : DepthFormat::None);
         PipelineState st;
-        st.cull = CullMode(r.i(0, 2));
+        st.cull = CullMode(r.i64(0, 2));
         st.shade = r.p(0.8) ? ShadeMode::Gouraud : ShadeMode::Flat;
         st.perspectiveColor = uint8_t(r.p(0.7));
         st.specularEnable = uint8_t(r.p(0.3));
         st.depthTest = uint8_t(r.p(0.6));
         st.scissorTest = uint8_t(r.p(0.3));
         Viewport vp{0, 0, W, H, 0.0f, 1.0f};
-        Rect scissor{int32_t(r.i(-20, W)), int32_t(r.i(-20, H)), int32_t(r.i(0, W)),
-                     int32_t(r.i(0, H))};
+        Rect scissor{int32_t(r.i64(-20, W)), int32_t(r.i64(-20, H)), int32_t(r.i64(0, W)),
+                     int32_t(r.i64(0, H))};
         DrawContext dc = makeDrawContext(st, fb, tu, Path::Fast, VertexSpace::Untransformed,
                                          vp, scissor, s);
         // Texture-coordinate sets (and the programmable pipeline's partial sets) as setup
         // sees them: numTexSets and numAttrs.
-        const int texChoice = int(r.i(0, 3));
+        const int texChoice = int(r.i64(0, 3));
         if (texChoice == 1) {
-            dc.numTexSets = int(r.i(1, tex::kMaxTexCoordSets));
+            dc.numTexSets = int(r.i64(1, tex::kMaxTexCoordSets));
             dc.numAttrs = kColorAttrs + 4 * dc.numTexSets;
             dc.needSpecular = true;
         } else if (texChoice == 2) {
             dc.numTexSets = 1;
-            dc.numAttrs = kColorAttrs + int(r.i(1, 4 * tex::kMaxTexCoordSets));
+            dc.numAttrs = kColorAttrs + int(r.i64(1, 4 * tex::kMaxTexCoordSets));
         }
 
         // ---- random vertices -------------------------------------------------------------
@@ -124,29 +117,29 @@ void runRounds(uint64_t seed, int rounds) {
         const bool constantW = r.p(0.3);
         std::vector<ProcessedVertex> pv;
         std::vector<Vertex> verts;
-        const int kind = int(r.i(0, 3));
-        const int n = int(r.i(3, 90));
-        int64_t cx = r.i(-40 * one, int64_t(W + 40) * one), cy = r.i(-40 * one, int64_t(H + 40) * one);
+        const int kind = int(r.i64(0, 3));
+        const int n = int(r.i64(3, 90));
+        int64_t cx = r.i64(-40 * one, int64_t(W + 40) * one), cy = r.i64(-40 * one, int64_t(H + 40) * one);
         for (int k = 0; k < n; ++k) {
             int64_t sx, sy;
             switch (kind) {
                 case 0:  // tiny: within a few pixels of a centre
-                    sx = cx + r.i(-3 * one, 3 * one);
-                    sy = cy + r.i(-3 * one, 3 * one);
+                    sx = cx + r.i64(-3 * one, 3 * one);
+                    sy = cy + r.i64(-3 * one, 3 * one);
                     break;
                 case 1:  // on the pixel-centre grid: edges through samples (top-left rule)
-                    sx = cx + (r.i(-4, 4) << s) + (r.p(0.8) ? half : 0);
-                    sy = cy + (r.i(-4, 4) << s) + (r.p(0.8) ? half : 0);
+                    sx = cx + (r.i64(-4, 4) << s) + (r.p(0.8) ? half : 0);
+                    sy = cy + (r.i64(-4, 4) << s) + (r.p(0.8) ? half : 0);
                     sx -= sx & (one - 1), sy -= sy & (one - 1);
                     sx += half, sy += half;
                     break;
                 case 2:  // anywhere in the guard band
-                    sx = r.i(-guard, guard);
-                    sy = r.i(-guard, guard);
+                    sx = r.i64(-guard, guard);
+                    sy = r.i64(-guard, guard);
                     break;
                 default:  // the target and around it
-                    sx = r.i(-64 * one, int64_t(W + 64) * one);
-                    sy = r.i(-64 * one, int64_t(H + 64) * one);
+                    sx = r.i64(-64 * one, int64_t(W + 64) * one);
+                    sy = r.i64(-64 * one, int64_t(H + 64) * one);
                     break;
             }
             if (k >= 2 && r.p(0.08)) {  // collinear with the previous two: zero area
@@ -164,23 +157,23 @@ void runRounds(uint64_t seed, int rounds) {
             else if (odd < 0.04) v.wz = std::numeric_limits<float>::quiet_NaN();
             else if (odd < 0.06) v.invW = std::numeric_limits<float>::infinity();
             else if (odd < 0.08) v.wx = -std::numeric_limits<float>::infinity();
-            else if (odd < 0.10) v.outcode = 1u << r.i(0, 5);
+            else if (odd < 0.10) v.outcode = 1u << r.i64(0, 5);
             v.unclipped = unclippedVertex(v);
             pv.push_back(v);
             Vertex sv;
-            sv.diffuse = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
-                               uint8_t(r.i(0, 255))};
-            sv.specular = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
-                                uint8_t(r.i(0, 255))};
+            sv.diffuse = Rgba8{uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)),
+                               uint8_t(r.i64(0, 255))};
+            sv.specular = Rgba8{uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)),
+                                uint8_t(r.i64(0, 255))};
             verts.push_back(sv);
         }
         // Clipped vertices keep the clip position of their window position, so that the
         // clipper has something consistent to cut (the result is compared, not judged).
-        const Primitive prim = Primitive(r.i(0, 2));
+        const Primitive prim = Primitive(r.i64(0, 2));
         std::vector<uint32_t> indices;
         if (r.p(0.7)) {
-            const int count = int(r.i(3, 120));
-            for (int k = 0; k < count; ++k) indices.push_back(uint32_t(r.i(0, n - 1)));
+            const int count = int(r.i64(3, 120));
+            for (int k = 0; k < count; ++k) indices.push_back(uint32_t(r.i64(0, n - 1)));
         }
         const uint32_t vertexCount = uint32_t(indices.empty() ? pv.size() : indices.size());
         const uint32_t triangles = triangleCount(prim, vertexCount);
@@ -199,7 +192,7 @@ void runRounds(uint64_t seed, int rounds) {
             clipAndSetup(dc, pv[a], pv[b], pv[c], flatD, flatS, ref, refPool, refGc);
         }
         // ---- the fast setup, in one call and split at a random point -------------------
-        const uint32_t split = triangles ? uint32_t(r.i(0, triangles)) : 0;
+        const uint32_t split = triangles ? uint32_t(r.i64(0, triangles)) : 0;
         setupTrianglesFast(dc, prim, 0, split, indices, verts, pv.data(), fast, fastPool, fastGc);
         setupTrianglesFast(dc, prim, split, triangles, indices, verts, pv.data(), fast, fastPool,
                            fastGc);
@@ -280,11 +273,11 @@ TEST(SetupSimd, EightVertexLanesEqualTheScalarVertexStage) {
     tex::TextureUnits tu;
     Rng r(11);
     for (int round = 0; round < 400; ++round) {
-        const int W = int(r.i(8, 700)), H = int(r.i(8, 500));
+        const int W = int(r.i64(8, 700)), H = int(r.i64(8, 500));
         Framebuffer fb(W, H, DepthFormat::None);
         PipelineState st;
-        const Viewport vp{int32_t(r.i(0, W / 2)), int32_t(r.i(0, H / 2)), int32_t(r.i(1, W / 2)),
-                          int32_t(r.i(1, H / 2)), r.f(0.0f, 0.5f), r.f(0.5f, 1.0f)};
+        const Viewport vp{int32_t(r.i64(0, W / 2)), int32_t(r.i64(0, H / 2)), int32_t(r.i64(1, W / 2)),
+                          int32_t(r.i64(1, H / 2)), r.f(0.0f, 0.5f), r.f(0.5f, 1.0f)};
         const int s = r.p(0.5) ? 4 : 8;
         const DrawContext dc = makeDrawContext(st, fb, tu, Path::Fast,
                                                VertexSpace::Untransformed, vp, Rect{}, s);
@@ -294,7 +287,7 @@ TEST(SetupSimd, EightVertexLanesEqualTheScalarVertexStage) {
         for (int c = 0; c < 4; ++c)
             for (int k = 0; k < 4; ++k)
                 if (r.p(0.1)) m[c][k] += r.f(-1.0f, 1.0f);
-        const int n = int(r.i(0, 70));
+        const int n = int(r.i64(0, 70));
         std::vector<Vertex> verts(size_t(n) + 3);
         for (Vertex& v : verts) {
             const float span = r.p(0.2) ? 1e6f : r.p(0.5) ? 4.0f : float(W);
@@ -304,16 +297,16 @@ TEST(SetupSimd, EightVertexLanesEqualTheScalarVertexStage) {
             if (odd < 0.03f) v.position.x = std::numeric_limits<float>::quiet_NaN();
             else if (odd < 0.06f) v.position.y = std::numeric_limits<float>::infinity();
             else if (odd < 0.08f) v.position.z = 3e38f;
-            v.diffuse = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
-                              uint8_t(r.i(0, 255))};
-            v.specular = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
-                               uint8_t(r.i(0, 255))};
+            v.diffuse = Rgba8{uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)),
+                              uint8_t(r.i64(0, 255))};
+            v.specular = Rgba8{uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)),
+                               uint8_t(r.i64(0, 255))};
         }
         const glm::mat4 wv(1.0f);
         const glm::mat3 nm(1.0f);
         std::vector<ProcessedVertex> ref(verts.size()), fast(verts.size());
         for (size_t k = 0; k < verts.size(); ++k) processVertexInto(dc, m, wv, nm, verts[k], ref[k]);
-        const size_t begin = size_t(r.i(0, 3));
+        const size_t begin = size_t(r.i64(0, 3));
         for (size_t k = 0; k < begin; ++k) fast[k] = ref[k];
         processVerticesFast(dc, m, wv, nm, verts, begin, verts.size(), fast.data());
         for (size_t k = 0; k < verts.size(); ++k) {
@@ -347,19 +340,19 @@ TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
     Rng r(23);
     uint64_t clipped = 0, drawn = 0, culled = 0, invalid = 0;
     for (int round = 0; round < 1500; ++round) {
-        const int W = int(r.i(8, 700)), H = int(r.i(8, 500));
+        const int W = int(r.i64(8, 700)), H = int(r.i64(8, 500));
         Framebuffer fb(W, H, r.p(0.5) ? DepthFormat::D24 : DepthFormat::None);
         PipelineState st;
-        st.cull = CullMode(r.i(0, 2));
+        st.cull = CullMode(r.i64(0, 2));
         st.shade = r.p(0.8) ? ShadeMode::Gouraud : ShadeMode::Flat;
         st.perspectiveColor = uint8_t(r.p(0.7));
         st.specularEnable = uint8_t(r.p(0.3));
         st.depthTest = uint8_t(r.p(0.6));
         st.scissorTest = uint8_t(r.p(0.3));
-        const Viewport vp{int32_t(r.i(0, W / 2)), int32_t(r.i(0, H / 2)), int32_t(r.i(1, W)),
-                          int32_t(r.i(1, H)), r.f(0.0f, 0.5f), r.f(0.5f, 1.0f)};
-        const Rect scissor{int32_t(r.i(-20, W)), int32_t(r.i(-20, H)), int32_t(r.i(0, W)),
-                           int32_t(r.i(0, H))};
+        const Viewport vp{int32_t(r.i64(0, W / 2)), int32_t(r.i64(0, H / 2)), int32_t(r.i64(1, W)),
+                          int32_t(r.i64(1, H)), r.f(0.0f, 0.5f), r.f(0.5f, 1.0f)};
+        const Rect scissor{int32_t(r.i64(-20, W)), int32_t(r.i64(-20, H)), int32_t(r.i64(0, W)),
+                           int32_t(r.i64(0, H))};
         const int s = r.p(0.5) ? 4 : 8;
         const DrawContext dc = makeDrawContext(st, fb, tu, Path::Fast,
                                                VertexSpace::Untransformed, vp, scissor, s);
@@ -372,7 +365,7 @@ TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
             for (int c = 0; c < 4; ++c)
                 for (int k = 0; k < 4; ++k)
                     if (r.p(0.1)) m[c][k] += r.f(-0.5f, 0.5f);
-        const int n = int(r.i(3, 90));
+        const int n = int(r.i64(3, 90));
         std::vector<Vertex> verts(static_cast<size_t>(n));
         float cx = persp ? r.f(-1.0f, 1.0f) : r.f(0.0f, float(W));
         float cy = persp ? r.f(-1.0f, 1.0f) : r.f(0.0f, float(H));
@@ -390,10 +383,10 @@ TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
             else if (odd < 0.06f) v.position.x = r.f(-1e6f, 1e6f);
             else if (odd < 0.08f) v.position.z = -r.f(0.0f, 5.0f);  // behind the eye
             else if (odd < 0.09f) v.position.z = 1e4f;  // past the far plane
-            v.diffuse = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
-                              uint8_t(r.i(0, 255))};
-            v.specular = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
-                               uint8_t(r.i(0, 255))};
+            v.diffuse = Rgba8{uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)),
+                              uint8_t(r.i64(0, 255))};
+            v.specular = Rgba8{uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)),
+                               uint8_t(r.i64(0, 255))};
         }
         const glm::mat4 wv(1.0f);
         const glm::mat3 nm(1.0f);
@@ -403,7 +396,7 @@ TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
         std::vector<ProcessedVertex> pv(verts.size());
         for (size_t k = 0; k < verts.size(); ++k) processVertexInto(dc, m, wv, nm, verts[k], pv[k]);
         std::vector<FastVertex> fv(verts.size());
-        const size_t vsplit = size_t(r.i(0, n));
+        const size_t vsplit = size_t(r.i64(0, n));
         processVerticesCompact(dc, m, wv, nm, verts, 0, vsplit, fv.data());
         processVerticesCompact(dc, m, wv, nm, verts, vsplit, verts.size(), fv.data());
         for (size_t k = 0; k < verts.size(); ++k) {
@@ -417,13 +410,13 @@ TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
         }
 
         // ---- setup -----------------------------------------------------------------------
-        const Primitive prim = Primitive(r.i(0, 2));
+        const Primitive prim = Primitive(r.i64(0, 2));
         std::vector<uint32_t> indices;
         if (r.p(0.6)) {
-            const int count = int(r.i(3, 120));
+            const int count = int(r.i64(3, 120));
             uint32_t base = 0;
             for (int k = 0; k < count; ++k) {
-                base = uint32_t(std::clamp<int64_t>(int64_t(base) + r.i(-2, 3), 0, n - 1));
+                base = uint32_t(std::clamp<int64_t>(int64_t(base) + r.i64(-2, 3), 0, n - 1));
                 indices.push_back(base);
             }
         }
@@ -441,7 +434,7 @@ TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
             const Rgba8 flatS = dc.gouraud ? Rgba8{} : verts[a].specular;
             clipAndSetup(dc, pv[a], pv[b], pv[c], flatD, flatS, ref, refPool, refGc);
         }
-        const uint32_t split = triangles ? uint32_t(r.i(0, triangles)) : 0;
+        const uint32_t split = triangles ? uint32_t(r.i64(0, triangles)) : 0;
         setupTrianglesCompact(dc, prim, 0, split, indices, verts, fv.data(), m, wv, nm, fast,
                               fastPool, fastGc);
         setupTrianglesCompact(dc, prim, split, triangles, indices, verts, fv.data(), m, wv, nm,
@@ -487,8 +480,8 @@ TEST(PathsAgree, DrawsOfSeveralChunkBatchesGiveIdenticalBytesOnAnyThreadCount) {
         y = std::fmod(y + r.f(-3.0f, 3.0f) + H + 16.0f, H + 16.0f);
         Vertex v;
         v.position = {x - 8.0f, y - 8.0f, r.f(0.0f, 1.0f), 1.0f};
-        v.diffuse = Rgba8{uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)), uint8_t(r.i(0, 255)),
-                          uint8_t(r.i(0, 255))};
+        v.diffuse = Rgba8{uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)), uint8_t(r.i64(0, 255)),
+                          uint8_t(r.i64(0, 255))};
         verts.push_back(v);
     }
     for (bool randomIndices : {false, true}) {
@@ -496,10 +489,10 @@ TEST(PathsAgree, DrawsOfSeveralChunkBatchesGiveIdenticalBytesOnAnyThreadCount) {
         // walk wraps), 3 × 9000 = 27,000 of them: 27 chunks.
         std::vector<uint32_t> indices;
         for (uint32_t k = 0; k < 3 * 9000; ++k) {
-            const uint32_t base = randomIndices ? uint32_t(r.i(0, 8999)) : k / 3;
+            const uint32_t base = randomIndices ? uint32_t(r.i64(0, 8999)) : k / 3;
             indices.push_back(base);
-            indices.push_back(uint32_t(std::min<int64_t>(8999, base + r.i(1, 3))));
-            indices.push_back(uint32_t(std::min<int64_t>(8999, base + r.i(1, 5))));
+            indices.push_back(uint32_t(std::min<int64_t>(8999, base + r.i64(1, 3))));
+            indices.push_back(uint32_t(std::min<int64_t>(8999, base + r.i64(1, 5))));
         }
         PipelineState st;
         st.cull = CullMode::None;

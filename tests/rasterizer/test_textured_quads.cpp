@@ -34,15 +34,6 @@ namespace {
 
 using namespace rg::raster;
 
-struct Rng {
-    std::mt19937_64 g;
-    explicit Rng(uint64_t seed) : g(seed) {}
-    int i(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(g); }
-    float f(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
-    bool p(double prob) { return std::bernoulli_distribution(prob)(g); }
-    uint8_t byte() { return uint8_t(i(0, 255)); }
-};
-
 int levelsOf(int n) {
     int l = 0;
     for (; n >= 1; n /= 2) ++l;
