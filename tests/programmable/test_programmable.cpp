@@ -665,27 +665,47 @@ struct TwinQuadFP {
     }
 };
 
+// The twin tests' textures: random float texels in [−0.25, 1.25) in every face, with every
+// `zeroEvery`-th float −0 (the sign of zero must survive every path).
+template <class Rng>
+auto randomFloatTexture(Fixture& fx, Rng& rng, std::uniform_real_distribution<float>& u, TexelFormat f,
+                        TextureTarget target, int w, int h, size_t zeroEvery) {
+    TextureDesc d;
+    d.format = f;
+    d.target = target;
+    d.width = w;
+    d.height = h;
+    auto t = fx.memory->create(d);
+    for (int face = 0; face < t->faces(); ++face) {
+        std::vector<uint8_t> b(size_t(w) * h * formatInfo(f).bytesPerTexel);
+        for (size_t i = 0; i < b.size() / 4; ++i) {
+            const float v = (i % zeroEvery == 0) ? -0.0f : u(rng) * 1.5f - 0.25f;
+            std::memcpy(&b[i * 4], &v, 4);
+        }
+        fx.memory->upload(*t, 0, face, b);
+    }
+    return t;
+}
+
+// The twin tests' vertices from one vertex's draws: inside the view volume, window depth ½
+// or (randomDepth) spread over it.
+RandomVertex twinVertex(const std::array<float, 12>& r, bool randomDepth) {
+    RandomVertex v;
+    const float w = 0.5f + r[0];
+    v.position = glm::vec4((r[1] * 2.4f - 1.2f) * w, (r[2] * 2.4f - 1.2f) * w,
+                           randomDepth ? (r[11] * 1.8f - 0.9f) * w : 0.5f * w, w);
+    v.a = glm::vec4(r[3] * 2 - 1, r[4] * 2 - 1, r[5] * 2 - 1, r[6]);
+    v.b = glm::vec4(r[7] * 3 - 1, r[8] * 3 - 1, r[9], 0.5f + r[10]);
+    return v;
+}
+
 TEST(ProgrammablePathsAgree, QuadProgramEqualsItsScalarTwinOnBothPaths) {
     const int W = 90, H = 70;
     std::mt19937 rng(77);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     Fixture fx;
     auto makeTex = [&](TexelFormat f, TextureTarget target, int w, int h) {
-        TextureDesc d;
-        d.format = f;
-        d.target = target;
-        d.width = w;
-        d.height = h;
-        auto t = fx.memory->create(d);
-        for (int face = 0; face < t->faces(); ++face) {
-            std::vector<uint8_t> b(size_t(w) * h * formatInfo(f).bytesPerTexel);
-            for (size_t i = 0; i < b.size() / 4; ++i) {
-                const float v = (i % 11 == 0) ? -0.0f : u(rng) * 1.5f - 0.25f;
-                std::memcpy(&b[i * 4], &v, 4);
-            }
-            fx.memory->upload(*t, 0, face, b);
-        }
-        return t;
+        return randomFloatTexture(fx, rng, u, f, target, w, h, 11);
     };
     auto rgba = makeTex(TexelFormat::RGBA32F, TextureTarget::Texture2D, 32, 16);
     auto red = makeTex(TexelFormat::R32F, TextureTarget::Texture2D, 24, 32);  // non-power-of-two WRAP in s
@@ -695,13 +715,7 @@ TEST(ProgrammablePathsAgree, QuadProgramEqualsItsScalarTwinOnBothPaths) {
     point.address[1] = tex::AddressMode::ClampToEdge;
     std::vector<RandomVertex> verts;
     for (int i = 0; i < 3 * 30; ++i) {
-        RandomVertex v;
-        const auto r = draws(rng, u);
-        const float w = 0.5f + r[0];
-        v.position = glm::vec4((r[1] * 2.4f - 1.2f) * w, (r[2] * 2.4f - 1.2f) * w, 0.5f * w, w);
-        v.a = glm::vec4(r[3] * 2 - 1, r[4] * 2 - 1, r[5] * 2 - 1, r[6]);
-        v.b = glm::vec4(r[7] * 3 - 1, r[8] * 3 - 1, r[9], 0.5f + r[10]);
-        verts.push_back(v);
+        verts.push_back(twinVertex(draws(rng, u), false));
     }
     ProgramState st;
     st.blend[1] = TargetBlend{1, BlendFactor::One, BlendFactor::One, BlendOp::Add, kWriteRGBA};
@@ -783,21 +797,7 @@ TEST(ProgrammablePathsAgree, GroupProgramEqualsItsScalarTwinWithDepth) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     Fixture fx;
     auto makeTex = [&](TexelFormat f, TextureTarget target, int w, int h) {
-        TextureDesc d;
-        d.format = f;
-        d.target = target;
-        d.width = w;
-        d.height = h;
-        auto t = fx.memory->create(d);
-        for (int face = 0; face < t->faces(); ++face) {
-            std::vector<uint8_t> b(size_t(w) * h * formatInfo(f).bytesPerTexel);
-            for (size_t i = 0; i < b.size() / 4; ++i) {
-                const float v = (i % 13 == 0) ? -0.0f : u(rng) * 1.5f - 0.25f;
-                std::memcpy(&b[i * 4], &v, 4);
-            }
-            fx.memory->upload(*t, 0, face, b);
-        }
-        return t;
+        return randomFloatTexture(fx, rng, u, f, target, w, h, 13);
     };
     auto rgba = makeTex(TexelFormat::RGBA32F, TextureTarget::Texture2D, 16, 32);
     auto red = makeTex(TexelFormat::R32F, TextureTarget::Texture2D, 20, 8);
@@ -809,13 +809,7 @@ TEST(ProgrammablePathsAgree, GroupProgramEqualsItsScalarTwinWithDepth) {
     pointClamp.address[0] = tex::AddressMode::ClampToEdge;
     std::vector<RandomVertex> verts;
     for (int i = 0; i < 3 * 40; ++i) {
-        RandomVertex v;
-        const auto r = draws(rng, u);
-        const float w = 0.5f + r[0];
-        v.position = glm::vec4((r[1] * 2.4f - 1.2f) * w, (r[2] * 2.4f - 1.2f) * w, (r[11] * 1.8f - 0.9f) * w, w);
-        v.a = glm::vec4(r[3] * 2 - 1, r[4] * 2 - 1, r[5] * 2 - 1, r[6]);
-        v.b = glm::vec4(r[7] * 3 - 1, r[8] * 3 - 1, r[9], 0.5f + r[10]);
-        verts.push_back(v);
+        verts.push_back(twinVertex(draws(rng, u), true));
     }
     ProgramState st;
     st.depthTest = 1;
