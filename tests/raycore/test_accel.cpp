@@ -172,6 +172,20 @@ TEST(Accel, PacketsAgreeWithSingleRays) {
     for (int i = 0; i < 5; ++i) EXPECT_EQ(part[i].object, h16[i].object);
 }
 
+// Two resolutions of hit i agree bit for bit (floats by their bytes: −0 and NaN payloads
+// count).
+void expectSameSurface(const SurfacePoint& a, const SurfacePoint& b, size_t i) {
+    EXPECT_EQ(std::memcmp(&a.p, &b.p, sizeof a.p), 0) << i;
+    EXPECT_EQ(std::memcmp(&a.ng, &b.ng, sizeof a.ng), 0) << i;
+    EXPECT_EQ(std::memcmp(&a.ns, &b.ns, sizeof a.ns), 0) << i;
+    EXPECT_EQ(std::memcmp(&a.uv, &b.uv, sizeof a.uv), 0) << i;
+    EXPECT_EQ(a.frontFace, b.frontFace) << i;
+    EXPECT_EQ(a.object, b.object) << i;
+    EXPECT_EQ(a.triangle, b.triangle) << i;
+    EXPECT_EQ(a.part, b.part) << i;
+    EXPECT_EQ(a.material, b.material) << i;
+}
+
 // Each batch kernel (and surfaces(), whichever it picks) against surface(), bit for bit;
 // every count from 1 to 17 too, so every partial group of four and of eight is seen.
 void expectSurfacesMatch(const Accel& accel, const std::vector<Ray>& rays, const std::vector<Hit>& hits) {
@@ -192,15 +206,7 @@ void expectSurfacesMatch(const Accel& accel, const std::vector<Ray>& rays, const
             for (size_t k = 0; k < n; ++k) {
                 const size_t i = first + k;
                 const SurfacePoint a = accel.surface(rays[i], hits[i]), &b = batch[k];
-                EXPECT_EQ(std::memcmp(&a.p, &b.p, sizeof a.p), 0) << i;
-                EXPECT_EQ(std::memcmp(&a.ng, &b.ng, sizeof a.ng), 0) << i;
-                EXPECT_EQ(std::memcmp(&a.ns, &b.ns, sizeof a.ns), 0) << i;
-                EXPECT_EQ(std::memcmp(&a.uv, &b.uv, sizeof a.uv), 0) << i;
-                EXPECT_EQ(a.frontFace, b.frontFace) << i;
-                EXPECT_EQ(a.object, b.object) << i;
-                EXPECT_EQ(a.triangle, b.triangle) << i;
-                EXPECT_EQ(a.part, b.part) << i;
-                EXPECT_EQ(a.material, b.material) << i;
+                expectSameSurface(a, b, i);
             }
         }
     }
@@ -326,15 +332,7 @@ TEST(Accel, StreamSurfacesMatchStreamThenSurface) {
         for (size_t i = 0; i < rays.size(); ++i) {
             const SurfacePoint a = accel.surface(rays[i], hits[i]), &b = fused[i];
             misses += !hits[i].valid();
-            EXPECT_EQ(std::memcmp(&a.p, &b.p, sizeof a.p), 0) << i;
-            EXPECT_EQ(std::memcmp(&a.ng, &b.ng, sizeof a.ng), 0) << i;
-            EXPECT_EQ(std::memcmp(&a.ns, &b.ns, sizeof a.ns), 0) << i;
-            EXPECT_EQ(std::memcmp(&a.uv, &b.uv, sizeof a.uv), 0) << i;
-            EXPECT_EQ(a.frontFace, b.frontFace) << i;
-            EXPECT_EQ(a.object, b.object) << i;
-            EXPECT_EQ(a.triangle, b.triangle) << i;
-            EXPECT_EQ(a.part, b.part) << i;
-            EXPECT_EQ(a.material, b.material) << i;
+            expectSameSurface(a, b, i);
         }
         EXPECT_GT(misses, 20);
     }
@@ -379,15 +377,7 @@ TEST(Accel, IntersectSurfaceMatchesIntersectThenSurface) {
         misses += !h.valid();
         back += h.valid() && !a.frontFace;
         for (const SurfacePoint* fused : {&b, &c}) {
-            EXPECT_EQ(std::memcmp(&a.p, &fused->p, sizeof a.p), 0) << i;
-            EXPECT_EQ(std::memcmp(&a.ng, &fused->ng, sizeof a.ng), 0) << i;
-            EXPECT_EQ(std::memcmp(&a.ns, &fused->ns, sizeof a.ns), 0) << i;
-            EXPECT_EQ(std::memcmp(&a.uv, &fused->uv, sizeof a.uv), 0) << i;
-            EXPECT_EQ(a.frontFace, fused->frontFace) << i;
-            EXPECT_EQ(a.object, fused->object) << i;
-            EXPECT_EQ(a.triangle, fused->triangle) << i;
-            EXPECT_EQ(a.part, fused->part) << i;
-            EXPECT_EQ(a.material, fused->material) << i;
+            expectSameSurface(a, *fused, i);
         }
     }
     EXPECT_GT(misses, 100) << "misses not exercised";
