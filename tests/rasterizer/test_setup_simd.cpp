@@ -79,6 +79,37 @@ ProcessedVertex vertexAt(Rng& r, int s, int64_t sx, int64_t sy, bool constantW) 
     return v;
 }
 
+// The reference path's setup of a draw's triangles: clipAndSetup per triangle, flat
+// colours from the provoking vertex, as the reference rasterizer calls it.
+void referenceSetup(const DrawContext& dc, Primitive prim, uint32_t triangles,
+                    const std::vector<uint32_t>& indices, const std::vector<Vertex>& verts,
+                    const ProcessedVertex* pv, std::vector<SetupTriangle>& out,
+                    std::vector<Plane>& pool, GeometryCounters& gc) {
+    for (uint32_t t = 0; t < triangles; ++t) {
+        const std::array<uint32_t, 3> tv = triangleVertices(prim, t);
+        const uint32_t a = indices.empty() ? tv[0] : indices[tv[0]];
+        const uint32_t b = indices.empty() ? tv[1] : indices[tv[1]];
+        const uint32_t c = indices.empty() ? tv[2] : indices[tv[2]];
+        const Rgba8 flatD = dc.gouraud ? Rgba8{} : verts[a].diffuse;
+        const Rgba8 flatS = dc.gouraud ? Rgba8{} : verts[a].specular;
+        clipAndSetup(dc, pv[a], pv[b], pv[c], flatD, flatS, out, pool, gc);
+    }
+}
+
+// The same triangles, field for field, and the same counts.
+void expectSameSetup(const std::vector<SetupTriangle>& ref, const std::vector<SetupTriangle>& fast,
+                     const GeometryCounters& refGc, const GeometryCounters& fastGc,
+                     const std::string& where) {
+    ASSERT_EQ(ref.size(), fast.size()) << where;
+    ASSERT_EQ(refGc.submitted, fastGc.submitted) << where;
+    ASSERT_EQ(refGc.culled, fastGc.culled) << where;
+    ASSERT_EQ(refGc.clipped, fastGc.clipped) << where;
+    ASSERT_EQ(refGc.drawn, fastGc.drawn) << where;
+    ASSERT_EQ(refGc.invalid, fastGc.invalid) << where;
+    for (size_t k = 0; k < ref.size(); ++k)
+        ASSERT_EQ(differingField(ref[k], fast[k]), "") << where << ", triangle " << k;
+}
+
 void runRounds(uint64_t seed, int rounds) {
     Rng r(seed);
     tex::TextureUnits tu;
@@ -182,15 +213,7 @@ void runRounds(uint64_t seed, int rounds) {
         std::vector<SetupTriangle> ref, fast;
         std::vector<Plane> refPool, fastPool;
         GeometryCounters refGc, fastGc;
-        for (uint32_t t = 0; t < triangles; ++t) {
-            const std::array<uint32_t, 3> tv = triangleVertices(prim, t);
-            const uint32_t a = indices.empty() ? tv[0] : indices[tv[0]];
-            const uint32_t b = indices.empty() ? tv[1] : indices[tv[1]];
-            const uint32_t c = indices.empty() ? tv[2] : indices[tv[2]];
-            const Rgba8 flatD = dc.gouraud ? Rgba8{} : verts[a].diffuse;
-            const Rgba8 flatS = dc.gouraud ? Rgba8{} : verts[a].specular;
-            clipAndSetup(dc, pv[a], pv[b], pv[c], flatD, flatS, ref, refPool, refGc);
-        }
+        referenceSetup(dc, prim, triangles, indices, verts, pv.data(), ref, refPool, refGc);
         // ---- the fast setup, in one call and split at a random point -------------------
         const uint32_t split = triangles ? uint32_t(r.i64(0, triangles)) : 0;
         setupTrianglesFast(dc, prim, 0, split, indices, verts, pv.data(), fast, fastPool, fastGc);
@@ -200,14 +223,7 @@ void runRounds(uint64_t seed, int rounds) {
         std::ostringstream whereText;  // (not operator+: GCC 12's -Wrestrict false alarm)
         whereText << "seed " << seed << ", round " << round;
         const std::string where = whereText.str();
-        ASSERT_EQ(ref.size(), fast.size()) << where;
-        ASSERT_EQ(refGc.submitted, fastGc.submitted) << where;
-        ASSERT_EQ(refGc.culled, fastGc.culled) << where;
-        ASSERT_EQ(refGc.clipped, fastGc.clipped) << where;
-        ASSERT_EQ(refGc.drawn, fastGc.drawn) << where;
-        ASSERT_EQ(refGc.invalid, fastGc.invalid) << where;
-        for (size_t k = 0; k < ref.size(); ++k)
-            ASSERT_EQ(differingField(ref[k], fast[k]), "") << where << ", triangle " << k;
+        ASSERT_NO_FATAL_FAILURE(expectSameSetup(ref, fast, refGc, fastGc, where));
         ASSERT_EQ(refPool.size(), fastPool.size()) << where;
         for (size_t k = 0; k < refPool.size(); ++k)
             ASSERT_TRUE(sameBits(refPool[k].c, fastPool[k].c) &&
@@ -425,29 +441,14 @@ TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
         std::vector<SetupTriangle> ref, fast;
         std::vector<Plane> refPool, fastPool;
         GeometryCounters refGc, fastGc;
-        for (uint32_t t = 0; t < triangles; ++t) {
-            const std::array<uint32_t, 3> tv = triangleVertices(prim, t);
-            const uint32_t a = indices.empty() ? tv[0] : indices[tv[0]];
-            const uint32_t b = indices.empty() ? tv[1] : indices[tv[1]];
-            const uint32_t c = indices.empty() ? tv[2] : indices[tv[2]];
-            const Rgba8 flatD = dc.gouraud ? Rgba8{} : verts[a].diffuse;
-            const Rgba8 flatS = dc.gouraud ? Rgba8{} : verts[a].specular;
-            clipAndSetup(dc, pv[a], pv[b], pv[c], flatD, flatS, ref, refPool, refGc);
-        }
+        referenceSetup(dc, prim, triangles, indices, verts, pv.data(), ref, refPool, refGc);
         const uint32_t split = triangles ? uint32_t(r.i64(0, triangles)) : 0;
         setupTrianglesCompact(dc, prim, 0, split, indices, verts, fv.data(), m, wv, nm, fast,
                               fastPool, fastGc);
         setupTrianglesCompact(dc, prim, split, triangles, indices, verts, fv.data(), m, wv, nm,
                               fast, fastPool, fastGc);
-        ASSERT_EQ(ref.size(), fast.size()) << where;
-        ASSERT_EQ(refGc.submitted, fastGc.submitted) << where;
-        ASSERT_EQ(refGc.culled, fastGc.culled) << where;
-        ASSERT_EQ(refGc.clipped, fastGc.clipped) << where;
-        ASSERT_EQ(refGc.drawn, fastGc.drawn) << where;
-        ASSERT_EQ(refGc.invalid, fastGc.invalid) << where;
+        ASSERT_NO_FATAL_FAILURE(expectSameSetup(ref, fast, refGc, fastGc, where));
         ASSERT_EQ(refPool.size(), fastPool.size()) << where;
-        for (size_t k = 0; k < ref.size(); ++k)
-            ASSERT_EQ(differingField(ref[k], fast[k]), "") << where << ", triangle " << k;
         clipped += refGc.clipped;
         drawn += refGc.drawn;
         culled += refGc.culled;
