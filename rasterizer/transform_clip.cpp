@@ -218,7 +218,10 @@ RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex*
     const F32x8 invW = 1.0f / c[3];
     const double scale = double(int64_t{1} << dc.subpixelBits);
     const double limit = double(kGuardBandPixels + 1) * scale;
-    auto snap = [&](F32x4 f) {  // snapToFixed
+    // snapToFixed. Always inlined: a lambda does not inherit the AVX2 target of the body
+    // it sits in, and an out-of-line call returning a 256-bit vector by value (at -O0)
+    // would cross the ABI between AVX and non-AVX code (a crash in Debug builds).
+    auto snap = [&](F32x4 f) __attribute__((always_inline)) {
         F64x4 d = __builtin_convertvector(f, F64x4) * scale + 0.5;
         d = d > -limit ? d : splat(-limit);  // also NaN
         d = d > limit ? splat(limit) : d;
