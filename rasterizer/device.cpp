@@ -120,14 +120,13 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     // The observer hook lives in the reference raster loop, which gets the reference setup.
     const bool fastPath = options.path == Path::Fast && !dc.fragmentObserver;
     // Draws without texture coordinates keep 32-byte FastVertex records instead
-    // (pipeline.h): the setup of small triangles waited on vertex bytes. Per calling
-    // thread and kept between draws, like scratchVertices, so that a large mesh does not
-    // page-fault fresh memory on every draw.
+    // (pipeline.h): the setup of small triangles waited on vertex bytes. Kept between
+    // draws, like scratchVertices, so that a large mesh does not page-fault fresh memory
+    // on every draw.
     const bool compact = fastPath && compactVertices(dc);
-    static thread_local std::vector<FastVertex> scratchFast;
-    if (compact && scratchFast.size() < vertices.size()) scratchFast.resize(vertices.size());
-    // (The lambdas below run on worker threads too: they must use this thread's array.)
-    FastVertex* const fastVertices = scratchFast.data();
+    if (compact && scratchFastVertices.size() < vertices.size())
+        scratchFastVertices.resize(vertices.size());
+    FastVertex* const fastVertices = scratchFastVertices.data();
     if (!compact && processed.size() < vertices.size()) processed.resize(vertices.size());
     auto processRange = [&](size_t b, size_t e) {
         if (compact) {

@@ -34,6 +34,7 @@ struct Device::Impl {
     // Per-draw scratch kept between draws so that large frames do not page-fault fresh
     // memory on every call; contents never carry over.
     std::vector<detail::ProcessedVertex> scratchVertices;
+    std::vector<detail::FastVertex> scratchFastVertices;  // draws without texture coordinates
     std::vector<detail::TriangleChunk> scratchChunks;
 
     Impl(const Profile& p, int w, int h, DepthFormat d, DeviceOptions o)
