@@ -416,6 +416,7 @@ class QuadContext {
 template <int N>
 struct MaskQ {
     std::array<Mask4, N> q{};
+    Mask4 quad(int i) const { return q[size_t(i)]; }
     static MaskQ allLanes() {
         MaskQ m;
         m.q.fill(Mask4::fromBits(15));
@@ -514,6 +515,33 @@ using Vec3Q = Vec3L<FloatQ<N>>;
 template <int N>
 using Vec4Q = Vec4L<FloatQ<N>>;
 
+namespace detail {
+
+// The group contexts' (QuadGroupContext, QuadGroupWideContext) quad-by-quad sampleLevel:
+// filtered samplers, non-power-of-two WRAP, the reference path. The caller copies its
+// arguments into storage() on that branch only — storage the compiler cannot move stores
+// to (a thread's own) — so that on the fast path the program's temporaries stay in
+// registers; run() is kept out of line for the same reason.
+template <class Vec4, class Float, class Mask>
+struct QuadByQuadSample {
+    Vec4 c;
+    Float lod;
+    Mask m;
+    [[RG_NOIPA]] static QuadByQuadSample& storage() {
+        static thread_local QuadByQuadSample a;
+        return a;
+    }
+    template <size_t N>
+    [[RG_NOIPA, gnu::cold]] Vec4 run(std::array<QuadContext, N>& quads, int unit) const {
+        Vec4 r;
+        for (int i = 0; i < int(N); ++i)
+            r.setQuad(i, quads[size_t(i)].sampleLevel(unit, c.quad(i), lod.quad(i), m.quad(i)));
+        return r;
+    }
+};
+
+}  // namespace detail
+
 // What a program sees of N quads: the QuadContext interface on 4N lanes, each call the
 // QuadContext call of every quad (quad i: lanes 4i … 4i + 3).
 template <int N>
@@ -539,13 +567,13 @@ class QuadGroupContext {
             // Copied on this branch only, into storage the compiler cannot move stores
             // to (a thread's own): the caller's temporaries are only read, so they stay
             // in registers on the fast path.
-            SlowArgs& a = slowArgs();
+            SlowArgs& a = SlowArgs::storage();
             for (int i = 0; i < N; ++i) {  // quad by quad: no aggregate copy
                 a.c.setQuad(i, c.quad(i));
                 a.lod.q[size_t(i)] = lod.q[size_t(i)];
                 a.m.q[size_t(i)] = m.q[size_t(i)];
             }
-            return sampleLevelQuads(unit, a);
+            return a.run(quads_, unit);
         }
         __m128 s[N], t[N], live[N];
         for (int i = 0; i < N; ++i) {
@@ -584,25 +612,7 @@ class QuadGroupContext {
     void endGroup() {}
 
   private:
-    // Quad by quad: filtered samplers, non-power-of-two WRAP, the reference path.
-    struct SlowArgs {
-        Vec4 c;
-        Float lod;
-        Mask m;
-    };
-    [[RG_NOIPA]] static SlowArgs& slowArgs() {
-        static thread_local SlowArgs a;
-        return a;
-    }
-    [[RG_NOIPA, gnu::cold]] Vec4 sampleLevelQuads(int unit, const SlowArgs& a) {
-        const Vec4& c = a.c;
-        const Float& lod = a.lod;
-        const Mask& m = a.m;
-        Vec4 r;
-        for (int i = 0; i < N; ++i)
-            r.setQuad(i, quads_[size_t(i)].sampleLevel(unit, c.quad(i), lod.q[size_t(i)], m.q[size_t(i)]));
-        return r;
-    }
+    using SlowArgs = detail::QuadByQuadSample<Vec4, Float, Mask>;
     template <class F>
     Vec4 each(F f) const {
         Vec4 r;

@@ -250,7 +250,7 @@ class QuadGroupWideContext {
             // Copied on this branch only, into storage the compiler cannot move stores
             // to (a thread's own): the caller's temporaries are only read, so they stay
             // in registers on the fast path.
-            SlowArgs& a = slowArgs();
+            SlowArgs& a = SlowArgs::storage();
             for (int k = 0; k < kRegs; ++k) {  // register by register: no aggregate copy
                 a.c.x.r[k] = c.x.r[k];
                 a.c.y.r[k] = c.y.r[k];
@@ -259,7 +259,7 @@ class QuadGroupWideContext {
                 a.lod.r[k] = lod.r[k];
                 a.m.r[k] = m.r[k];
             }
-            return sampleLevelQuads(unit, a);
+            return a.run(quads_, unit);
         }
         const Mask live = live_ & m;
         for (int k = 0; k < kRegs; ++k) fetches_.r[k] -= live.r[k];  // −1 per fetching lane
@@ -309,24 +309,7 @@ class QuadGroupWideContext {
   private:
     // Quad by quad: filtered samplers, four-channel textures, non-power-of-two WRAP, the
     // reference path.
-    struct SlowArgs {
-        Vec4 c;
-        Float lod;
-        Mask m;
-    };
-    [[RG_NOIPA]] static SlowArgs& slowArgs() {
-        static thread_local SlowArgs a;
-        return a;
-    }
-    [[RG_NOIPA, gnu::cold]] Vec4 sampleLevelQuads(int unit, const SlowArgs& a) {
-        const Vec4& c = a.c;
-        const Float& lod = a.lod;
-        const Mask& m = a.m;
-        Vec4 r;
-        for (int i = 0; i < N; ++i)
-            r.setQuad(i, quads_[size_t(i)].sampleLevel(unit, c.quad(i), lod.quad(i), m.quad(i)));
-        return r;
-    }
+    using SlowArgs = detail::QuadByQuadSample<Vec4, Float, Mask>;
     template <class Fn>
     Vec4 each(Fn f) const {
         Vec4 r;
