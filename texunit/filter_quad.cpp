@@ -581,26 +581,31 @@ template <bool kTwoD>
     }
 }
 // The rounded texels of a quad from its level sums `a` (and `b`, the second level's, when
-// ch.blend).
+// ch.blend): int32 lanes in [0, 255], pixels 0 | 2 and 1 | 3 as the sums.
 template <bool kTwoD>
-[[gnu::always_inline]] RG_AVX2 inline __m128i finishLevels8(const LevelChoice& ch, const Lanes8& a,
-                                                           const Lanes8* b) {
+[[gnu::always_inline]] RG_AVX2 inline Lanes8 finishLanes8(const LevelChoice& ch, const Lanes8& a,
+                                                          const Lanes8* b) {
     if (ch.blend) {
         const __m256i w = _mm256_set1_epi32(int32_t((uint32_t(ch.frac) << 16) | uint32_t(256 - ch.frac)));
         if constexpr (kTwoD)
-            return packQuad8({bilinearBlend8(a.even, b->even, w), bilinearBlend8(a.odd, b->odd, w)});
+            return {bilinearBlend8(a.even, b->even, w), bilinearBlend8(a.odd, b->odd, w)};
         else
-            return packQuad8({pairBlend8(a.even, b->even, w), pairBlend8(a.odd, b->odd, w)});
+            return {pairBlend8(a.even, b->even, w), pairBlend8(a.odd, b->odd, w)};
     }
     if constexpr (kTwoD) {
         const __m256i r = _mm256_set1_epi32((1 << 23) + (1 << 15));
-        return packQuad8({_mm256_srai_epi32(_mm256_add_epi32(a.even, r), 16),
-                          _mm256_srai_epi32(_mm256_add_epi32(a.odd, r), 16)});
+        return {_mm256_srai_epi32(_mm256_add_epi32(a.even, r), 16),
+                _mm256_srai_epi32(_mm256_add_epi32(a.odd, r), 16)};
     } else {
         const __m256i r = _mm256_set1_epi32(32768 + 128);
-        return packQuad8({_mm256_srai_epi32(_mm256_add_epi32(a.even, r), 8),
-                          _mm256_srai_epi32(_mm256_add_epi32(a.odd, r), 8)});
+        return {_mm256_srai_epi32(_mm256_add_epi32(a.even, r), 8),
+                _mm256_srai_epi32(_mm256_add_epi32(a.odd, r), 8)};
     }
+}
+template <bool kTwoD>
+[[gnu::always_inline]] RG_AVX2 inline __m128i finishLevels8(const LevelChoice& ch, const Lanes8& a,
+                                                           const Lanes8* b) {
+    return packQuad8(finishLanes8<kTwoD>(ch, a, b));
 }
 template <bool kTwoD>
 [[gnu::always_inline]] RG_AVX2 inline __m128i gatherQuadAvx2(const QuadSampler& qs, const QuadFootprint& fp) {
@@ -789,11 +794,12 @@ template <Target kTarget, Addr kS, Addr kT>
     }
 }
 // Both quads' texels for LINEAR choices `ch` of the same levels (the taps depend on the
-// levels only; each quad's own frac blends them); returns the fetches of both.
+// levels only; each quad's own frac blends them), as finishLanes8 leaves them; returns
+// the fetches of both.
 template <Target kTarget, Addr kS, Addr kT>
 [[gnu::always_inline]] RG_AVX2 inline uint64_t gatherPair(const QuadSampler& qs, const LevelChoice ch[2],
                                                           const __m128 s[2], const __m128 t[2],
-                                                          const __m128i face4[2], __m128i tex[2]) {
+                                                          const __m128i face4[2], Lanes8 tex[2]) {
     constexpr bool kTwoD = kTarget != Target::OneD;
     const __m256 s8 = _mm256_set_m128(s[1], s[0]);
     const __m256 t8 = kTwoD ? _mm256_set_m128(t[1], t[0]) : _mm256_setzero_ps();
@@ -805,10 +811,10 @@ template <Target kTarget, Addr kS, Addr kT>
         Lanes8 b[2];
         levelSumsPair<kTarget, kS, kT>(qs.level[size_t(ch[0].level1)], s8, t8, face8, b);
         #pragma GCC unroll 2
-        for (int h = 0; h < 2; ++h) tex[h] = finishLevels8<kTwoD>(ch[h], a[h], &b[h]);
+        for (int h = 0; h < 2; ++h) tex[h] = finishLanes8<kTwoD>(ch[h], a[h], &b[h]);
     } else {
         #pragma GCC unroll 2
-        for (int h = 0; h < 2; ++h) tex[h] = finishLevels8<kTwoD>(ch[h], a[h], nullptr);
+        for (int h = 0; h < 2; ++h) tex[h] = finishLanes8<kTwoD>(ch[h], a[h], nullptr);
     }
     return 2 * uint64_t(kTwoD ? 4 : 2) * uint64_t(ch[0].blend ? 2 : 1) * 4;
 }
@@ -834,7 +840,32 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
     if (ch[0].filter == FilterMode::Linear && ch[1].filter == FilterMode::Linear &&
         ch[0].level0 == ch[1].level0 && ch[0].level1 == ch[1].level1 &&
         ch[0].blend == ch[1].blend) {
-        n = gatherPair<kT, kS, kU>(qs, ch, s, t, face4, tex);
+        Lanes8 lanes[2];
+        n = gatherPair<kT, kS, kU>(qs, ch, s, t, face4, lanes);
+        if constexpr (kTexCur) {
+            // mulDiv255(texel, CURRENT) of both quads in one register, on the int16 texel
+            // values before they are packed to bytes: (p0 p1 | p2 p3) per quad, the layout
+            // vpmovzxbw gives CURRENT's bytes. The same per-channel arithmetic as
+            // quad::mulDiv255 (exact in 16 bits: a·b + 128 + (… >> 8) < 2^16), then one
+            // pack of both quads.
+            __m256i m[2];
+            #pragma GCC unroll 2
+            for (int h = 0; h < 2; ++h) {
+                const __m256i texel = _mm256_packs_epi32(lanes[h].even, lanes[h].odd);
+                const __m256i cur = _mm256_cvtepu8_epi16(r[h][arg::Current]);
+                const __m256i t = _mm256_add_epi16(_mm256_mullo_epi16(texel, cur),
+                                                   _mm256_set1_epi16(128));
+                m[h] = _mm256_srli_epi16(_mm256_add_epi16(t, _mm256_srli_epi16(t, 8)), 8);
+            }
+            // (q0 p0 p1, q1 p0 p1 | q0 p2 p3, q1 p2 p3) → (quad 0 | quad 1).
+            const __m256i both = _mm256_permute4x64_epi64(_mm256_packus_epi16(m[0], m[1]),
+                                                          _MM_SHUFFLE(3, 1, 2, 0));
+            r[0][arg::Current] = _mm256_castsi256_si128(both);
+            r[1][arg::Current] = _mm256_extracti128_si256(both, 1);
+            return n;
+        }
+        tex[0] = packQuad8(lanes[0]);
+        tex[1] = packQuad8(lanes[1]);
     } else {
         #pragma GCC unroll 2
         for (int h = 0; h < 2; ++h) {

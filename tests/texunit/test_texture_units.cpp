@@ -515,14 +515,23 @@ void cascadesAgainstReference(int& pairs) {  // pairs: how many shadeQuadPair ca
         s.lodBias = rng.below(3) ? 0.0f : rng.uniform(-2, 2);
         return s;
     };
+    // glModulate: every stage GL's MODULATE, (TEXTURE, CURRENT) without modifiers or
+    // scale (the cascades' kTexCur form).
+    bool glModulate = false;
     auto modulate = [&](int sets) {
         StageState st = randomStage(rng, sets);
         st.colorOp = st.alphaOp = TextureOp::Modulate;
+        if (glModulate) {
+            st.colorArg1 = st.alphaArg1 = arg::Texture;
+            st.colorArg2 = st.alphaArg2 = arg::Current;
+            st.colorScaleShift = st.alphaScaleShift = 0;
+        }
         if (rng.below(8) == 0) st.alphaOp = TextureOp::SelectArg1;  // a near miss
         return st;
     };
     for (int stateI = 0; stateI < 400; ++stateI) {
         TextureUnits tu;
+        glModulate = rng.below(2) == 0;
         const uint32_t kind = rng.below(4);
         const bool cube = first[kind]->desc().target == TextureTarget::CubeMap;
         tu.setTexture(0, first[kind]);
@@ -541,15 +550,25 @@ void cascadesAgainstReference(int& pairs) {  // pairs: how many shadeQuadPair ca
         FragmentQuadPair pair;
         std::array<Rgba8, 4> pairRef[2];
         uint64_t pairRefFetches[2] = {0, 0};
+        // The previous quad's planes: the second quad of a pair is half the time the quad
+        // two pixels to the right on the same planes (as the rasterizer's pairs are).
+        float scale = 0.0f;
+        glm::vec4 base[2], dx[2], dy[2];
         for (int k = 0; k < 40; ++k) {
             FragmentQuad q;
-            const float scale = rng.below(10) == 0 ? 0.0f : std::exp2(rng.uniform(-9, 2));
+            const bool neighbour = (k & 1) && rng.below(2) == 0;
+            if (!neighbour) scale = rng.below(10) == 0 ? 0.0f : std::exp2(rng.uniform(-9, 2));
             for (int set = 0; set < 2; ++set) {
-                glm::vec4 base(rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3), 1.0f);
-                glm::vec4 dx(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f);
-                glm::vec4 dy(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f);
+                if (neighbour) {
+                    base[set] += 2.0f * scale * dx[set];
+                } else {
+                    base[set] = {rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3), 1.0f};
+                    dx[set] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f};
+                    dy[set] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f};
+                }
                 for (int p = 0; p < 4; ++p)
-                    q.texCoord[size_t(set)][size_t(p)] = base + scale * (float(p & 1) * dx + float(p >> 1) * dy);
+                    q.texCoord[size_t(set)][size_t(p)] =
+                        base[set] + scale * (float(p & 1) * dx[set] + float(p >> 1) * dy[set]);
             }
             for (int p = 0; p < 4; ++p) {
                 q.diffuse[size_t(p)] = {uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()),
