@@ -818,6 +818,96 @@ template <Target kTarget, Addr kS, Addr kT>
     }
     return 2 * uint64_t(kTwoD ? 4 : 2) * uint64_t(ch[0].blend ? 2 : 1) * 4;
 }
+// ---- 2D magnification: both quads' taps from one 4×3 texel block ------------------------
+// Near magnification the eight pixels of a pair (four columns, two rows) touch a few
+// neighbouring texels. When every pixel's taps lie in the 4 columns and 3 rows from the
+// smallest first taps (columns c..c+3, rows r..r+2: i0 − c ≤ 2 and j0 − r ≤ 1 for every
+// pixel, with no wrap or clamp between a pixel's two taps on either axis, and the block
+// inside the level), the 16 texels per row pair come from two 8-texel registers (rows
+// r | r + 1 and r + 1 | r + 2, four texels each) by vpermd instead of 32 scalar loads:
+// the same texels as the tap indices address, so the same sums.
+
+// The smallest of eight int32 lanes, in every lane.
+[[gnu::always_inline]] RG_AVX2 inline __m256i minLanes8(__m256i v) {
+    __m256i m = _mm256_min_epi32(v, _mm256_permute2x128_si256(v, v, 1));
+    m = _mm256_min_epi32(m, _mm256_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm256_min_epi32(m, _mm256_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1)));
+}
+// Σ wx·(t − 128) per channel of one row of taps a, b (pixel k in lane k), pixels
+// (k | k + 4) in rows[k]; wx[k] their weight pairs.
+[[gnu::always_inline]] RG_AVX2 inline void blockRowSums(__m256i a, __m256i b, const __m256i wx[4],
+                                                        __m256i rows[4]) {
+    const __m256i zero = _mm256_setzero_si256(), k128 = _mm256_set1_epi16(128);
+    const __m256i x = _mm256_unpacklo_epi8(a, b), y = _mm256_unpackhi_epi8(a, b);
+    const __m256i px[4] = {_mm256_unpacklo_epi8(x, zero), _mm256_unpackhi_epi8(x, zero),
+                           _mm256_unpacklo_epi8(y, zero), _mm256_unpackhi_epi8(y, zero)};
+    #pragma GCC unroll 4
+    for (int k = 0; k < 4; ++k) rows[k] = _mm256_madd_epi16(_mm256_sub_epi16(px[k], k128), wx[k]);
+}
+// quad::mulDiv255Half on 16 int16 lanes.
+[[gnu::always_inline]] RG_AVX2 inline __m256i mulDiv255x16(__m256i a, __m256i b) {
+    const __m256i t = _mm256_add_epi16(_mm256_mullo_epi16(a, b), _mm256_set1_epi16(128));
+    return _mm256_srli_epi16(_mm256_add_epi16(t, _mm256_srli_epi16(t, 8)), 8);
+}
+// The bilinear results of the eight pixels (quad h in lanes 4h..4h+3) on level L as int16
+// channel values, w01 = (quad 0 pixels 0, 1 | quad 1 pixels 0, 1) and w23 the same of
+// pixels 2, 3 — or false when the taps do not fit the block (nothing written).
+// The arithmetic is bilinear8's (rowPairs8 and its column pass) with the pixels arranged
+// by position instead of even/odd: the same biased pmaddwd sums, the same rounding.
+template <Addr kS, Addr kT>
+[[gnu::always_inline]] RG_AVX2 inline bool bilinearBlockPair(const LevelView& L, __m256 s8, __m256 t8,
+                                                             __m256i& w01, __m256i& w23) {
+    const Axis8 ax = linearAxis8<kS>(s8, L.width);
+    const Axis8 ay = linearAxis8<kT>(t8, L.height);
+    const __m256i one = _mm256_set1_epi32(1);
+    const __m256i col0 = minLanes8(ax.i0), row0 = minLanes8(ay.i0);
+    const __m256i dcol = _mm256_sub_epi32(ax.i0, col0), drow = _mm256_sub_epi32(ay.i0, row0);
+    const __m256i bad = _mm256_or_si256(
+        _mm256_or_si256(_mm256_cmpgt_epi32(dcol, _mm256_set1_epi32(2)),
+                        _mm256_cmpgt_epi32(drow, one)),
+        _mm256_andnot_si256(
+            _mm256_and_si256(_mm256_cmpeq_epi32(ax.i1, _mm256_add_epi32(ax.i0, one)),
+                             _mm256_cmpeq_epi32(ay.i1, _mm256_add_epi32(ay.i0, one))),
+            _mm256_set1_epi32(-1)));
+    const int32_t c = _mm256_cvtsi256_si32(col0), r = _mm256_cvtsi256_si32(row0);
+    if (!_mm256_testz_si256(bad, bad) || c + 3 >= L.width || r + 2 >= L.height) return false;
+    const Rgba8* row = L.data + (size_t(r) * size_t(L.width) + size_t(c));
+    auto load4texels = [](const Rgba8* q) __attribute__((always_inline)) {
+        return _mm_loadu_si128(reinterpret_cast<const __m128i*>(q));
+    };
+    const __m128i mid = load4texels(row + L.width);
+    const __m256i block01 = _mm256_set_m128i(mid, load4texels(row));
+    const __m256i block12 = _mm256_set_m128i(load4texels(row + 2 * L.width), mid);
+    const __m256i idx = _mm256_add_epi32(_mm256_slli_epi32(drow, 2), dcol);
+    const __m256i idx1 = _mm256_add_epi32(idx, one);
+    // Per pixel k (lane k): t00, t01 on row j0, t10, t11 on row j0 + 1.
+    const __m256i t00 = _mm256_permutevar8x32_epi32(block01, idx),
+                  t01 = _mm256_permutevar8x32_epi32(block01, idx1),
+                  t10 = _mm256_permutevar8x32_epi32(block12, idx),
+                  t11 = _mm256_permutevar8x32_epi32(block12, idx1);
+    // Weight pairs of pixel k (and k + 4) over its half: wx, wy.
+    __m256i wx[4], wy[4];
+    #pragma GCC unroll 4
+    for (int k = 0; k < 4; ++k) {
+        const __m256i sel = _mm256_setr_epi32(k, k, k, k, k + 4, k + 4, k + 4, k + 4);
+        wx[k] = _mm256_permutevar8x32_epi32(ax.w, sel);
+        wy[k] = _mm256_permutevar8x32_epi32(ay.w, sel);
+    }
+    __m256i r0[4], r1[4], f[4];
+    blockRowSums(t00, t01, wx, r0);
+    blockRowSums(t10, t11, wx, r1);
+    const __m256i round = _mm256_set1_epi32((1 << 23) + (1 << 15));
+    #pragma GCC unroll 4
+    for (int k = 0; k < 4; ++k) {
+        const __m256i sum =
+            _mm256_madd_epi16(interleaveHalves8(_mm256_packs_epi32(r0[k], r1[k])), wy[k]);
+        f[k] = _mm256_srai_epi32(_mm256_add_epi32(sum, round), 16);
+    }
+    w01 = _mm256_packs_epi32(f[0], f[1]);
+    w23 = _mm256_packs_epi32(f[2], f[3]);
+    return true;
+}
+
 // cascadeStageOfPair for both quads (both covered) of a pair.
 template <Target kT, Addr kS, Addr kU, bool kTexCur>
 [[gnu::always_inline]] RG_AVX2 inline uint64_t cascadeStageOfBoth(const CompiledStages& c, int i,
@@ -837,9 +927,34 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
                                  t[h], face[h], face4[h]);
     uint64_t n = 0;
     __m128i tex[2];
-    if (ch[0].filter == FilterMode::Linear && ch[1].filter == FilterMode::Linear &&
-        ch[0].level0 == ch[1].level0 && ch[0].level1 == ch[1].level1 &&
-        ch[0].blend == ch[1].blend) {
+    const bool sameLinear = ch[0].filter == FilterMode::Linear &&
+                            ch[1].filter == FilterMode::Linear && ch[0].level0 == ch[1].level0 &&
+                            ch[0].level1 == ch[1].level1 && ch[0].blend == ch[1].blend;
+    if constexpr (kT == Target::TwoD) {
+        __m256i w01, w23;
+        if (sameLinear && !ch[0].blend &&
+            bilinearBlockPair<kS, kU>(qs.level[size_t(ch[0].level0)], _mm256_set_m128(s[1], s[0]),
+                                      _mm256_set_m128(t[1], t[0]), w01, w23)) {
+            n = 2 * 4 * 4;
+            if constexpr (kTexCur) {
+                // mulDiv255(texel, CURRENT) as below, CURRENT's bytes widened to the
+                // same (pixels 0, 1 | 2, 3 per quad) arrangement; the pack gives quad 0 | 1.
+                const __m256i cur = _mm256_set_m128i(r[1][arg::Current], r[0][arg::Current]);
+                const __m256i z = _mm256_setzero_si256();
+                const __m256i both =
+                    _mm256_packus_epi16(mulDiv255x16(w01, _mm256_unpacklo_epi8(cur, z)),
+                                        mulDiv255x16(w23, _mm256_unpackhi_epi8(cur, z)));
+                r[0][arg::Current] = _mm256_castsi256_si128(both);
+                r[1][arg::Current] = _mm256_extracti128_si256(both, 1);
+                return n;
+            }
+            const __m256i both = _mm256_packus_epi16(w01, w23);
+            tex[0] = _mm256_castsi256_si128(both);
+            tex[1] = _mm256_extracti128_si256(both, 1);
+            goto evaluate;
+        }
+    }
+    if (sameLinear) {
         Lanes8 lanes[2];
         n = gatherPair<kT, kS, kU>(qs, ch, s, t, face4, lanes);
         if constexpr (kTexCur) {
@@ -851,11 +966,8 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
             __m256i m[2];
             #pragma GCC unroll 2
             for (int h = 0; h < 2; ++h) {
-                const __m256i texel = _mm256_packs_epi32(lanes[h].even, lanes[h].odd);
-                const __m256i cur = _mm256_cvtepu8_epi16(r[h][arg::Current]);
-                const __m256i t = _mm256_add_epi16(_mm256_mullo_epi16(texel, cur),
-                                                   _mm256_set1_epi16(128));
-                m[h] = _mm256_srli_epi16(_mm256_add_epi16(t, _mm256_srli_epi16(t, 8)), 8);
+                m[h] = mulDiv255x16(_mm256_packs_epi32(lanes[h].even, lanes[h].odd),
+                                    _mm256_cvtepu8_epi16(r[h][arg::Current]));
             }
             // (q0 p0 p1, q1 p0 p1 | q0 p2 p3, q1 p2 p3) → (quad 0 | quad 1).
             const __m256i both = _mm256_permute4x64_epi64(_mm256_packus_epi16(m[0], m[1]),
@@ -874,6 +986,7 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
             tex[h] = gatherQuadAvx2<kT != Target::OneD>(qs, fp);
         }
     }
+evaluate:
     #pragma GCC unroll 2
     for (int h = 0; h < 2; ++h) {
         r[h][arg::Texture] = tex[h];
@@ -977,6 +1090,42 @@ RG_AVX2 uint64_t cascadePairTwo(const CompiledStages& c, const FragmentQuadPair&
     return n;
 }
 
+// cascadePairOne for GL MODULATE over a 2D texture whose level choice is constant and
+// bilinear on one level (a magnified texture without mipmaps: tex_bilinear_2d), both quads
+// covered and their taps inside one block (bilinearBlockPair): a short body without the
+// general pair path's branches and stack traffic. Anything else goes to cascadePairOne.
+// The coordinates: projectLanes' divide by q when some pixel has q ≠ 1, done here on all
+// eight lanes when one of them has — x/1 is x, so the quad whose q are all 1 gets the
+// same values as projectLanes gives it.
+template <Addr kS, Addr kU>
+RG_AVX2 uint64_t cascadePairBlock2D(const CompiledStages& c, const FragmentQuadPair& p,
+                                    __m128i tfactor, Rgba8* out) {
+    const QuadSampler& qs = c.stage[0];
+    if (p.coverage[0] && p.coverage[1]) {
+        const float(&tc)[4][8] = p.texCoord[c.state[0].texCoordIndex];
+        __m256 x = _mm256_load_ps(tc[0]), y = _mm256_load_ps(tc[1]);
+        if (qs.projected) {
+            const __m256 w = _mm256_load_ps(tc[3]);
+            if (_mm256_movemask_ps(_mm256_cmp_ps(w, _mm256_set1_ps(1.0f), _CMP_NEQ_UQ)) != 0) {
+                x = _mm256_div_ps(x, w);
+                y = _mm256_div_ps(y, w);
+            }
+        }
+        __m256i w01, w23;
+        if (bilinearBlockPair<kS, kU>(qs.level[size_t(qs.choice.level0)], x, y, w01, w23)) {
+            // GL MODULATE of both quads as in cascadeStageOfBoth; CURRENT is DIFFUSE.
+            const __m256i cur = _mm256_load_si256(reinterpret_cast<const __m256i*>(p.diffuse.data()));
+            const __m256i z = _mm256_setzero_si256();
+            const __m256i both =
+                _mm256_packus_epi16(mulDiv255x16(w01, _mm256_unpacklo_epi8(cur, z)),
+                                    mulDiv255x16(w23, _mm256_unpackhi_epi8(cur, z)));
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), both);
+            return 2 * 4 * 4;
+        }
+    }
+    return cascadePairOne<Target::TwoD, kS, kU, true>(c, p, tfactor, out);
+}
+
 // True when every one of the `active` stages is MODULATE(TEXTURE, CURRENT) for colour and
 // alpha with no scale (cascadeStage's kTexCur).
 bool texCurOnly(const CompiledStages& c, int active) {
@@ -1046,12 +1195,19 @@ void compileCascade(CompiledStages& c, int active, uint32_t sampling) {
             texCur ? &cascadePairOne<kT, kS, kU, true> : &cascadePairOne<kT, kS, kU, false>;
     };
     if (active == 1) {
-        if (f0 == &sampleQuadKernelAvx2<Target::TwoD, Addr::Pow2, Addr::Pow2>)
+        // A magnified single-level 2D texture under GL MODULATE: cascadePairBlock2D.
+        const QuadSampler& q0 = c.stage[0];
+        const bool block = texCur && q0.constantChoice && q0.choice.filter == FilterMode::Linear &&
+                           !q0.choice.blend;
+        if (f0 == &sampleQuadKernelAvx2<Target::TwoD, Addr::Pow2, Addr::Pow2>) {
             one.template operator()<Target::TwoD, Addr::Pow2, Addr::Pow2>();
-        else if (f0 == &sampleQuadKernelAvx2<Target::TwoD, Addr::Edge, Addr::Edge>)
+            if (block) c.cascadePair = &cascadePairBlock2D<Addr::Pow2, Addr::Pow2>;
+        } else if (f0 == &sampleQuadKernelAvx2<Target::TwoD, Addr::Edge, Addr::Edge>) {
             one.template operator()<Target::TwoD, Addr::Edge, Addr::Edge>();
-        else if (f0 == &sampleQuadKernelAvx2<Target::Cube, Addr::Edge, Addr::Edge>)
+            if (block) c.cascadePair = &cascadePairBlock2D<Addr::Edge, Addr::Edge>;
+        } else if (f0 == &sampleQuadKernelAvx2<Target::Cube, Addr::Edge, Addr::Edge>) {
             one.template operator()<Target::Cube, Addr::Edge, Addr::Edge>();
+        }
         return;
     }
     if (f0 == &sampleQuadKernelAvx2<Target::Cube, Addr::Edge, Addr::Edge> &&
