@@ -199,6 +199,22 @@ __attribute__((target("avx2"), always_inline)) inline void pairOutputAvx2(
     _mm_storeu_si128(reinterpret_cast<__m128i*>(color + row1), _mm_unpackhi_epi64(q0, q1));
 }
 
+// pairOutputAvx2 of a pair shaded into `shaded` (quad qx, then quad qx + 2), with its
+// specular colours for the specular add.
+template <bool kDepth, int kBlendMode>
+__attribute__((target("avx2"), always_inline)) inline void pairOutputPendingAvx2(
+    const DrawContext& dc, const SetupTriangle& t, int qx, int qy, unsigned cov,
+    const std::array<Rgba8, 8>& shaded, __m256i specular, RasterCounters& rc) {
+    // Two 16-byte loads, as the cascade stored them (a 32-byte load would miss store
+    // forwarding).
+    __m256i src = _mm256_set_m128i(
+        _mm_load_si128(reinterpret_cast<const __m128i*>(shaded.data() + 4)),
+        _mm_load_si128(reinterpret_cast<const __m128i*>(shaded.data())));
+    if (dc.st.specularEnable)  // addSpecular: rgb saturate-add, alpha untouched
+        src = _mm256_adds_epu8(src, _mm256_and_si256(specular, _mm256_set1_epi32(0x00FFFFFF)));
+    pairOutputAvx2<kDepth, kBlendMode>(dc, t, qx, qy, cov, src, rc);
+}
+
 template <bool kDepth, int kBlendMode>
 __attribute__((target("avx2"), noinline)) void runAvx2(const DrawContext& dc,
                                                        const SetupTriangle& t,
@@ -282,6 +298,16 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
     const bool pairs = dc.path == Path::Fast && dc.tu->shadesPairs();
     alignas(32) tex::FragmentQuadPair pair;
     uint64_t fetched = 0;  // of the pairs, added to the texture units' counter at the end
+    // The fragment operations of a shaded pair wait until the next pair has been handed to
+    // the texture units (or the run ends): its colours are then long stored, and the
+    // texturing of the next pair overlaps them instead of the run stalling on the cascade's
+    // result. Pairs cover disjoint pixels, and the counters are sums, so the order of the
+    // outputs changes nothing.
+    alignas(32) std::array<Rgba8, 8> shaded[2];
+    int slot = 0;
+    unsigned pendingCov = 0;
+    int pendingQx = 0;
+    __m256i pendingSpecular = _mm256_setzero_si256();
     int k = 0;
     for (; k + 1 < count; k += 2) {
         const unsigned cov = unsigned(coverage[k]) | (unsigned(coverage[k + 1]) << 4);
@@ -316,16 +342,14 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
                                                       r));
                 }
             }
-            alignas(32) std::array<Rgba8, 8> shaded;
-            fetched += dc.tu->shadeQuadPair(pair, shaded);
-            // Two 16-byte loads, as the cascade stored them (a 32-byte load would miss
-            // store forwarding).
-            __m256i src = _mm256_set_m128i(
-                _mm_load_si128(reinterpret_cast<const __m128i*>(shaded.data() + 4)),
-                _mm_load_si128(reinterpret_cast<const __m128i*>(shaded.data())));
-            if (st.specularEnable)  // addSpecular: rgb saturate-add, alpha untouched
-                src = _mm256_adds_epu8(src, _mm256_and_si256(specular, _mm256_set1_epi32(0x00FFFFFF)));
-            pairOutputAvx2<kDepth, kBlendMode>(dc, t, qx, qy, cov, src, rc);
+            fetched += dc.tu->shadeQuadPair(pair, shaded[slot]);
+            if (pendingCov)
+                pairOutputPendingAvx2<kDepth, kBlendMode>(dc, t, pendingQx, qy, pendingCov,
+                                                          shaded[slot ^ 1], pendingSpecular, rc);
+            slot ^= 1;
+            pendingCov = cov;
+            pendingQx = qx;
+            pendingSpecular = specular;
             continue;
         }
         for (int h = 0; h < 2; ++h) {
@@ -366,6 +390,9 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
             src = _mm256_adds_epu8(src, _mm256_and_si256(specular, _mm256_set1_epi32(0x00FFFFFF)));
         pairOutputAvx2<kDepth, kBlendMode>(dc, t, qx, qy, cov, src, rc);
     }
+    if (pendingCov)
+        pairOutputPendingAvx2<kDepth, kBlendMode>(dc, t, pendingQx, qy, pendingCov,
+                                                  shaded[slot ^ 1], pendingSpecular, rc);
     dc.tu->addFetches(fetched);
     if (k < count && coverage[k])
         processTexturedQuadSse<kDepth, kBlendMode>(dc, t, planes, row, tplanes, trow,
