@@ -211,6 +211,12 @@ detail::NearestFloat2D detail::nearestFloat2D(const tex::Texture* texture, const
     auto pow2 = [](int v) { return (v & (v - 1)) == 0; };
     n.lanes4 = (!n.wrapS || pow2(n.width)) && (n.height == 1 || !n.wrapT || pow2(n.height));
     if (pow2(n.width)) n.widthShift = std::countr_zero(unsigned(n.width));
+    auto axis = [](int size, bool wrap) {
+        if (wrap) return NearestFloat2D::Axis{float(size), -4194304.0f, 4194304.0f, size - 1};
+        return NearestFloat2D::Axis{float(size), 0.0f, float(size - 1), -1};
+    };
+    n.axisS = axis(n.width, n.wrapS);
+    n.axisT = axis(n.height, n.wrapT);
     return n;
 }
 

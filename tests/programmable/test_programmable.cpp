@@ -861,5 +861,91 @@ TEST(ProgrammablePathsAgree, GroupProgramEqualsItsScalarTwinWithDepth) {
     }
 }
 
+// Fetch counts around a discard: a point-sampled fetch of every live lane, a discard that
+// depends on it, a second unmasked fetch and a masked third. The wide group kernel counts
+// its unmasked fetches once per call and adds them to the lanes live at the time (before a
+// discard changes them), so each lane's count must still be what the scalar twin counts:
+// 1 for a discarded fragment, 2 or 3 for the others.
+struct FetchDiscardScalarFP {
+    static constexpr int kVaryings = 2;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 1;
+    static constexpr bool kWritesDepth = false;
+    void operator()(FragmentContext& f) const {
+        const glm::vec4 a = f.varying(0), b = f.varying(1);
+        const float h = f.sampleLevel(0, a, 0.0f).x;
+        if (h > 0.6f) {
+            f.discard();
+            return;
+        }
+        const float g = f.sampleLevel(0, b, 0.0f).x;
+        float k = 0.0f;
+        if (b.z > 0.5f) k = f.sampleLevel(0, a + b, 0.0f).x;
+        f.output(0, glm::vec4(h, g, k, 1.0f));
+    }
+};
+
+struct FetchDiscardGroupFP {
+    static constexpr int kVaryings = 2;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 1;
+    static constexpr bool kWritesDepth = false;
+    template <class Q>
+    void operator()(Q& q) const {
+        using F = typename Q::Float;
+        using V4 = typename Q::Vec4;
+        const V4 a = q.varying(0), b = q.varying(1);
+        const F h = q.sampleLevel(0, a, F(0.0f)).x;
+        q.discard(h > F(0.6f));
+        const F g = q.sampleLevel(0, b, F(0.0f)).x;
+        const auto third = b.z > F(0.5f);
+        const F k = select(third, q.sampleLevel(0, a + b, F(0.0f), third).x, F(0.0f));
+        q.output(0, V4(h, g, k, F(1.0f)));
+    }
+};
+
+static_assert(detail::kIsGroupProgram<FetchDiscardGroupFP>);
+
+TEST(ProgrammablePathsAgree, GroupFetchCountsAroundADiscardEqualTheScalarTwin) {
+    const int W = 83, H = 61;
+    std::mt19937 rng(777);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Fixture fx;
+    auto red = randomFloatTexture(fx, rng, u, TexelFormat::R32F, TextureTarget::Texture2D, 32, 16, 11);
+    tex::SamplerState point;
+    point.magFilter = point.minFilter = tex::FilterMode::Nearest;
+    std::vector<RandomVertex> verts;
+    for (int i = 0; i < 3 * 24; ++i) verts.push_back(twinVertex(draws(rng, u), false));
+    auto render = [&](bool group, Path path, int threads, ProgramCounters& counters) {
+        auto t0 = fx.target(W, H, TexelFormat::RGBA8);
+        ProgrammableDevice dev(g80(), DeviceOptions{path, threads});
+        ColorTarget ct{t0};
+        dev.setRenderTargets({&ct, 1});
+        dev.setTexture(0, red, point);
+        dev.beginFrame();
+        if (group)
+            dev.draw(RandomVP{}, FetchDiscardGroupFP{}, ProgramPrimitive::TriangleList,
+                     std::span<const RandomVertex>(verts));
+        else
+            dev.draw(RandomVP{}, FetchDiscardScalarFP{}, ProgramPrimitive::TriangleList,
+                     std::span<const RandomVertex>(verts));
+        counters = dev.counters();
+        return hashTargets({t0}, W, H);
+    };
+    ProgramCounters ref, c;
+    const std::string want = render(false, Path::Reference, 1, ref);
+    ASSERT_GT(ref.fragmentsDiscarded, 100u);
+    ASSERT_GT(ref.fragmentInvocations, ref.fragmentsDiscarded + 100u);
+    for (Path path : {Path::Reference, Path::Fast})
+        for (int threads : {1, 2}) {
+            EXPECT_EQ(render(true, path, threads, c), want)
+                << (path == Path::Fast ? "fast" : "reference") << " path, " << threads << " threads";
+            EXPECT_EQ(c.textureFetches, ref.textureFetches);
+            EXPECT_EQ(c.maxFetchesPerFragment, ref.maxFetchesPerFragment);
+            EXPECT_EQ(c.fragmentsDiscarded, ref.fragmentsDiscarded);
+            EXPECT_EQ(c.fragmentsWritten, ref.fragmentsWritten);
+        }
+}
+
 }  // namespace
 }  // namespace rg::raster

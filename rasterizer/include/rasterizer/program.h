@@ -149,6 +149,16 @@ struct NearestFloat2D {
     // have power-of-two sizes. widthShift: log2(width) for a power of two, else −1.
     bool lanes4 = false;
     int widthShift = -1;
+    // Where lanes4 is set, one axis of the wide fetch (quad_program_wide.h) without a branch
+    // on the address mode: texel (t + (float(t) > u)) & mask, t = trunc(u), u =
+    // min(max(c·scale, lo), hi). WRAP: lo, hi = ∓2^22, mask = size − 1; CLAMP_TO_EDGE:
+    // lo = 0, hi = size − 1, mask = −1 (u is then a non-negative float, so t ≤ u and the
+    // step down never fires); a 1D texture's t axis: size 1, texel 0 either way.
+    struct Axis {
+        float scale = 0.0f, lo = 0.0f, hi = 0.0f;
+        int32_t mask = 0;
+    };
+    Axis axisS, axisT;
     bool valid() const { return data4 || data1; }
     // The tap list's Σ 1·texel in double is the texel itself, with −0 turned into +0.
     glm::vec4 fetch(float s, float t) const {

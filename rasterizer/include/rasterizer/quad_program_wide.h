@@ -189,34 +189,32 @@ inline void nearestTexelsWide(const typename WideLanes<N>::F& c, int n, bool wra
 }
 
 // The one-channel point fetch of kRegs registers (8 lanes each) with AVX2 instructions:
-// nearestTexelsWide's steps with MAXPS/MINPS in nearestTexels' operand order, the texels
-// through VGATHERDPS (lanes outside `live` gather nothing and read zero, as nearestLoads'
-// mask gives them), 0 + texel for −0. Only the AVX2 kernel reaches it (it is inlined there,
+// nearestTexelsWide's steps with MAXPS/MINPS in nearestTexels' operand order, both address
+// modes in one form (NearestFloat2D::Axis: CLAMP_TO_EDGE is the WRAP steps with bounds 0 and
+// size − 1 and an all-ones mask, so the loop has no branch on the mode), the texels through
+// VGATHERDPS (lanes outside `live` gather nothing and read zero, as nearestLoads' mask
+// gives them), 0 + texel for −0. Only the AVX2 kernel reaches it (it is inlined there,
 // programmable_device.h: runQuadGroupsAvx2 is flattened); a target function taking its
 // vectors by pointer, so no call passes one in registers.
-[[gnu::target("avx2")]] inline __m256i nearestTexelsAvx2(__m256 c, int size, bool wrap) {
-    const __m256 u = _mm256_mul_ps(c, _mm256_set1_ps(float(size)));
-    if (!wrap)
-        return _mm256_cvttps_epi32(
-            _mm256_min_ps(_mm256_max_ps(u, _mm256_setzero_ps()), _mm256_set1_ps(float(size - 1))));
-    const __m256 v = _mm256_min_ps(_mm256_max_ps(u, _mm256_set1_ps(-4194304.0f)), _mm256_set1_ps(4194304.0f));
-    const __m256i i = _mm256_cvttps_epi32(v);
-    const __m256i down = _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(i), v, _CMP_GT_OQ));
-    return _mm256_and_si256(_mm256_add_epi32(i, down), _mm256_set1_epi32(size - 1));
+[[gnu::target("avx2"), gnu::always_inline]] inline __m256i nearestAxisAvx2(__m256 c, const NearestFloat2D::Axis& a) {
+    const __m256 u = _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(c, _mm256_set1_ps(a.scale)), _mm256_set1_ps(a.lo)),
+                                   _mm256_set1_ps(a.hi));
+    const __m256i i = _mm256_cvttps_epi32(u);
+    const __m256i down = _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(i), u, _CMP_GT_OQ));
+    return _mm256_and_si256(_mm256_add_epi32(i, down), _mm256_set1_epi32(a.mask));
 }
 
 template <int kRegs>
 [[gnu::target("avx2")]] inline void nearestFetchAvx2(const NearestFloat2D& n, const void* s, const void* t,
                                                      const void* live, void* out) {
-    auto texels = nearestTexelsAvx2;
+    // The row offset y·width: a shift for a power-of-two width (y is 0 for a 1D texture).
+    const bool shift = n.widthShift >= 0;
+    const __m128i shiftCount = _mm_cvtsi32_si128(n.widthShift);
+    const __m256i width = _mm256_set1_epi32(n.width);
     for (int k = 0; k < kRegs; ++k) {
-        const __m256 sk = _mm256_loadu_ps(static_cast<const float*>(s) + 8 * k);
-        __m256i idx = texels(sk, n.width, n.wrapS);
-        if (n.height != 1) {
-            const __m256i y = texels(_mm256_loadu_ps(static_cast<const float*>(t) + 8 * k), n.height, n.wrapT);
-            idx = _mm256_add_epi32(idx, n.widthShift >= 0 ? _mm256_sll_epi32(y, _mm_cvtsi32_si128(n.widthShift))
-                                                          : _mm256_mullo_epi32(y, _mm256_set1_epi32(n.width)));
-        }
+        const __m256i x = nearestAxisAvx2(_mm256_loadu_ps(static_cast<const float*>(s) + 8 * k), n.axisS);
+        const __m256i y = nearestAxisAvx2(_mm256_loadu_ps(static_cast<const float*>(t) + 8 * k), n.axisT);
+        const __m256i idx = _mm256_add_epi32(x, shift ? _mm256_sll_epi32(y, shiftCount) : _mm256_mullo_epi32(y, width));
         const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
         const __m256 v = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), n.data1, idx, m, 4);
         _mm256_storeu_ps(static_cast<float*>(out) + 8 * k, _mm256_and_ps(_mm256_add_ps(v, _mm256_setzero_ps()), m));
@@ -239,8 +237,59 @@ class QuadGroupWideContext {
     Mask active() const { return live_; }
     Vec4 varying(int k) const { return each([&](const QuadContext& c) { return c.varying(k); }); }
     Vec4 fragCoord() const { return each([](const QuadContext& c) { return c.fragCoord(); }); }
-    [[gnu::always_inline]] Vec4 sampleLevel(int unit, const Vec4& c, const Float& lod,
-                                            const Mask& m = Mask::allLanes()) {
+    // Without a mask every live lane fetches: the call is counted once (allFetches_) and
+    // added to the live lanes when they change (discard) or the group ends, instead of a
+    // per-lane count updated at every fetch.
+    [[gnu::always_inline]] Vec4 sampleLevel(int unit, const Vec4& c, const Float& lod) {
+        return sampleLevelLanes<true>(unit, c, lod, Mask::allLanes());
+    }
+    [[gnu::always_inline]] Vec4 sampleLevel(int unit, const Vec4& c, const Float& lod, const Mask& m) {
+        return sampleLevelLanes<false>(unit, c, lod, m);
+    }
+    Vec4 sample(int unit, int k, const Mask& m = Mask::allLanes()) {
+        Vec4 r;
+        for (int i = 0; i < N; ++i) r.setQuad(i, quads_[size_t(i)].sample(unit, k, m.quad(i)));
+        return r;
+    }
+    Float sampleCompare(int unit, const Vec4& c, const Float& ref, const Mask& m = Mask::allLanes()) {
+        Float r;
+        for (int i = 0; i < N; ++i)
+            r.setQuad(i, quads_[size_t(i)].sampleCompare(unit, c.quad(i), ref.quad(i), m.quad(i)));
+        return r;
+    }
+    void discard(const Mask& m) {
+        flushAllFetches();
+        for (int i = 0; i < N; ++i) {
+            quads_[size_t(i)].discard(m.quad(i));
+            live_.setQuad(i, quads_[size_t(i)].active());
+        }
+    }
+    void output(int target, const Vec4& color, const Mask& m = Mask::allLanes()) {
+        for (int i = 0; i < N; ++i) quads_[size_t(i)].output(target, color.quad(i), m.quad(i));
+    }
+
+    // ---- used by the pipeline --------------------------------------------------------------
+    QuadContext& quad(int i) { return quads_[size_t(i)]; }
+    // After the quads' begin: the group's lane masks. Before their finish: the fetches
+    // counted here, added to the quads' own.
+    void beginGroup() {
+        for (int k = 0; k < Mask::kRegs; ++k)
+            live_.setPair(k, quads_[size_t(2 * k)].active(), quads_[size_t(2 * k + 1)].active());
+        fetches_ = Mask();
+        allFetches_ = 0;
+    }
+    void endGroup() {
+        flushAllFetches();
+        for (int i = 0; i < N; ++i) {
+            alignas(16) int32_t n[4];
+            std::memcpy(n, reinterpret_cast<const char*>(fetches_.r) + 16 * i, 16);
+            for (int l = 0; l < 4; ++l) quads_[size_t(i)].fetches_[size_t(l)] += uint32_t(n[l]);
+        }
+    }
+
+  private:
+    template <bool kAllLanes>
+    [[gnu::always_inline]] Vec4 sampleLevelLanes(int unit, const Vec4& c, const Float& lod, const Mask& m) {
         using F = typename WideLanes<N>::F;
         using I = typename WideLanes<N>::I;
         constexpr int kRegs = WideLanes<N>::kRegs;
@@ -261,52 +310,24 @@ class QuadGroupWideContext {
             }
             return a.run(quads_, unit);
         }
-        const Mask live = live_ & m;
-        for (int k = 0; k < kRegs; ++k) fetches_.r[k] -= live.r[k];  // −1 per fetching lane
+        Mask live = live_;
+        if constexpr (kAllLanes) {
+            ++allFetches_;
+        } else {
+            live = live & m;
+            for (int k = 0; k < kRegs; ++k) fetches_.r[k] -= live.r[k];  // −1 per fetching lane
+        }
         Float t, one;
         detail::nearestFetchAvx2<kRegs>(n, c.x.r, c.y.r, live.r, t.r);
         for (int k = 0; k < kRegs; ++k) one.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(F{} + 1.0f) & live.r[k]);
         return n.depth ? Vec4(t, t, t, one) : Vec4(t, Float(0.0f), Float(0.0f), one);
     }
-    Vec4 sample(int unit, int k, const Mask& m = Mask::allLanes()) {
-        Vec4 r;
-        for (int i = 0; i < N; ++i) r.setQuad(i, quads_[size_t(i)].sample(unit, k, m.quad(i)));
-        return r;
+    // The unmasked fetches since the last flush to every live lane's count.
+    void flushAllFetches() {
+        using I = typename WideLanes<N>::I;
+        for (int k = 0; k < Mask::kRegs; ++k) fetches_.r[k] += live_.r[k] & (I{} + allFetches_);
+        allFetches_ = 0;
     }
-    Float sampleCompare(int unit, const Vec4& c, const Float& ref, const Mask& m = Mask::allLanes()) {
-        Float r;
-        for (int i = 0; i < N; ++i)
-            r.setQuad(i, quads_[size_t(i)].sampleCompare(unit, c.quad(i), ref.quad(i), m.quad(i)));
-        return r;
-    }
-    void discard(const Mask& m) {
-        for (int i = 0; i < N; ++i) {
-            quads_[size_t(i)].discard(m.quad(i));
-            live_.setQuad(i, quads_[size_t(i)].active());
-        }
-    }
-    void output(int target, const Vec4& color, const Mask& m = Mask::allLanes()) {
-        for (int i = 0; i < N; ++i) quads_[size_t(i)].output(target, color.quad(i), m.quad(i));
-    }
-
-    // ---- used by the pipeline --------------------------------------------------------------
-    QuadContext& quad(int i) { return quads_[size_t(i)]; }
-    // After the quads' begin: the group's lane masks. Before their finish: the fetches
-    // counted here, added to the quads' own.
-    void beginGroup() {
-        for (int k = 0; k < Mask::kRegs; ++k)
-            live_.setPair(k, quads_[size_t(2 * k)].active(), quads_[size_t(2 * k + 1)].active());
-        fetches_ = Mask();
-    }
-    void endGroup() {
-        for (int i = 0; i < N; ++i) {
-            alignas(16) int32_t n[4];
-            std::memcpy(n, reinterpret_cast<const char*>(fetches_.r) + 16 * i, 16);
-            for (int l = 0; l < 4; ++l) quads_[size_t(i)].fetches_[size_t(l)] += uint32_t(n[l]);
-        }
-    }
-
-  private:
     // Quad by quad: filtered samplers, four-channel textures, non-power-of-two WRAP, the
     // reference path.
     using SlowArgs = detail::QuadByQuadSample<Vec4, Float, Mask>;
@@ -318,7 +339,8 @@ class QuadGroupWideContext {
     }
     std::array<QuadContext, N> quads_;
     Mask live_;     // the quads' active lanes
-    Mask fetches_;  // minus the point-sampled fetches per lane since beginGroup
+    Mask fetches_;  // the masked point-sampled fetches per lane since beginGroup
+    int32_t allFetches_ = 0;  // unmasked point-sampled fetches not yet in fetches_
 };
 
 }  // namespace rg::raster
