@@ -308,18 +308,36 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
     unsigned pendingCov = 0;
     int pendingQx = 0;
     __m256i pendingSpecular = _mm256_setzero_si256();
+    // 1/w without slope (Planes::flatW): every pixel's (c + dx·fx) + dy·fy is c exactly
+    // (both products are ±0, c is finite and non-zero), so its 1.0f/w is planes.flatR;
+    // when that is 1 (unitW) the ·r of the texture coordinates is the identity.
+    const bool flatW = planes.flatW, unitW = planes.unitW;
+    const __m256 flatR = both(planes.flatR);
+    // The pixel centres x + ½ of a pair, stepped by 4 per pair: multiples of ½ below 2^22,
+    // so every sum is exact — the floats float(qx + i) + 0.5f (computed as such on a
+    // framebuffer too wide for that).
+    __m256 centre = _mm256_setr_ps(float(qx0) + 0.5f, float(qx0 + 1) + 0.5f, float(qx0) + 0.5f,
+                                   float(qx0 + 1) + 0.5f, float(qx0 + 2) + 0.5f,
+                                   float(qx0 + 3) + 0.5f, float(qx0 + 2) + 0.5f,
+                                   float(qx0 + 3) + 0.5f);
+    const __m256 x0 = _mm256_set1_ps(t.x0), four = _mm256_set1_ps(4.0f);
+    const bool exactSteps = qx0 >= 0 && int64_t(qx0) + 2 * int64_t(count) + 4 <= (int64_t(1) << 22);
     int k = 0;
-    for (; k + 1 < count; k += 2) {
+    for (; k + 1 < count; k += 2, centre = _mm256_add_ps(centre, four)) {
         const unsigned cov = unsigned(coverage[k]) | (unsigned(coverage[k + 1]) << 4);
         if (!cov) continue;
         const int qx = qx0 + 2 * k;
         const __m256 fx = _mm256_sub_ps(
-            _mm256_setr_ps(float(qx) + 0.5f, float(qx + 1) + 0.5f, float(qx) + 0.5f,
-                           float(qx + 1) + 0.5f, float(qx + 2) + 0.5f, float(qx + 3) + 0.5f,
-                           float(qx + 2) + 0.5f, float(qx + 3) + 0.5f),
-            _mm256_set1_ps(t.x0));
-        const __m256 w = _mm256_add_ps(_mm256_add_ps(wc, _mm256_mul_ps(wdx, fx)), wdyfy);
-        const __m256 r = _mm256_div_ps(_mm256_set1_ps(1.0f), w);
+            exactSteps ? centre
+                       : _mm256_setr_ps(float(qx) + 0.5f, float(qx + 1) + 0.5f, float(qx) + 0.5f,
+                                        float(qx + 1) + 0.5f, float(qx + 2) + 0.5f,
+                                        float(qx + 3) + 0.5f, float(qx + 2) + 0.5f,
+                                        float(qx + 3) + 0.5f),
+            x0);
+        const __m256 r =
+            flatW ? flatR
+                  : _mm256_div_ps(_mm256_set1_ps(1.0f),
+                                  _mm256_add_ps(_mm256_add_ps(wc, _mm256_mul_ps(wdx, fx)), wdyfy));
         __m256i diffuse = flatDiffuse, specular = flatSpecular;
         if (dc.gouraud) {
             diffuse = colors8(c, dx, dyfy, fx, perspective, r);
@@ -336,10 +354,10 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
                 float(&dst)[4][8] = pair.texCoord[size_t(dc.texSets[size_t(set)])];
                 for (int a = 0; a < 4; ++a) {
                     const int p = 4 * set + a;
-                    _mm256_store_ps(dst[a], _mm256_mul_ps(_mm256_add_ps(_mm256_add_ps(
-                                                              tc[p], _mm256_mul_ps(tdx[p], fx)),
-                                                          tdyfy[p]),
-                                                      r));
+                    __m256 v = _mm256_add_ps(_mm256_add_ps(tc[p], _mm256_mul_ps(tdx[p], fx)),
+                                             tdyfy[p]);
+                    if (!unitW) v = _mm256_mul_ps(v, r);
+                    _mm256_store_ps(dst[a], v);
                 }
             }
             fetched += dc.tu->shadeQuadPair(pair, shaded[slot]);

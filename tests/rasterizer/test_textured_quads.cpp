@@ -232,6 +232,9 @@ uint64_t runSession(uint64_t seed, int draws) {
         const int n = 3 * r.i(1, 4);
         const float scale = r.p(0.3) ? 3.0f : r.p(0.5) ? 40.0f : float(std::max(w, h)) * 1.5f;
         const bool flatW = r.p(0.4);
+        // A shared 1/w: 1 (the rasterizer skips the ·1/w) or another value (one 1/w per
+        // triangle instead of one per pixel).
+        const float flatRhw = r.p(0.5) ? 1.0f : r.f(0.2f, 3.0f);
         const float texScale = r.p(0.5) ? r.f(0.1f, 1.5f) : r.f(1.5f, 12.0f);
         std::vector<Vertex> verts;
         const float cx = r.f(-10.0f, float(w) + 10.0f), cy = r.f(-10.0f, float(h) + 10.0f);
@@ -239,7 +242,7 @@ uint64_t runSession(uint64_t seed, int draws) {
             Vertex v;
             if (space == VertexSpace::Pretransformed) {
                 v.position = {cx + r.f(-scale, scale), cy + r.f(-scale, scale), r.f(0.0f, 1.0f),
-                              flatW ? 1.0f : r.f(0.2f, 3.0f)};
+                              flatW ? flatRhw : r.f(0.2f, 3.0f)};
             } else {
                 v.position = {r.f(-2.0f, 2.0f), r.f(-2.0f, 2.0f), r.f(-1.5f, 1.5f), 1.0f};
             }
