@@ -153,6 +153,12 @@ struct SetupTriangle {
     int minX, minY, maxX, maxY;  // inclusive pixel box, ∩ clip rect
     float x0, y0;                // snapped first vertex, pixels
     Plane invW;                  // 1/w
+    // The triangle's coverage of the one even-aligned 2×2 quad its box lies in, or 0 when
+    // the box spans more than one quad (quadCoverageOf). Computed at setup, where the fast
+    // path has four triangles' edges in SIMD lanes, so that the rasterizer's single-quad
+    // kernel (the common case of dense meshes) reads four bits instead of evaluating twelve
+    // edge values; in the padding before colorC, on the cache line of the box and 1/w.
+    uint32_t quadCoverage;
     // Colour planes (a/w when perspective-correct, else a), diffuse RGBA then specular
     // RGBA, stored as three arrays so that the fast path evaluates 4 channels per SSE op
     // with exactly the scalar operations of Plane::at. In this order, the fields a
@@ -164,6 +170,30 @@ struct SetupTriangle {
     uint32_t texPlanes;          // first of 4·numTexSets planes in the draw's texture pool
     Plane color(int a) const { return Plane{colorC[a], colorDx[a], colorDy[a]}; }
 };
+static_assert(sizeof(SetupTriangle) == 256, "quadCoverage sits in padding");
+
+// SetupTriangle::quadCoverage from the edges and the box: when the box lies in one
+// even-aligned 2×2 quad (qx, qy), bit i for pixel (qx + (i & 1), qy + (i >> 1)) inside the
+// box with all three E ≥ 0 at its centre; else 0.
+inline uint32_t quadCoverageOf(const SetupTriangle& t, int s) {
+    if (t.maxX > (t.minX | 1) || t.maxY > (t.minY | 1)) return 0;
+    const int qx = t.minX & ~1, qy = t.minY & ~1;
+    const int64_t half = int64_t{1} << (s - 1);
+    const int64_t X = (int64_t(qx) << s) + half, Y = (int64_t(qy) << s) + half;
+    uint32_t coverage = 0xF;
+    for (int e = 0; e < 3; ++e) {
+        const int64_t e0 = t.C[e] + t.A[e] * X + t.B[e] * Y;
+        const int64_t sx = t.A[e] << s, sy = t.B[e] << s;
+        const int64_t E[4] = {e0, e0 + sx, e0 + sy, e0 + sx + sy};
+        for (int i = 0; i < 4; ++i)
+            if (E[i] < 0) coverage &= ~(1u << i);
+    }
+    if (qx < t.minX) coverage &= 0xA;  // column qx outside the box
+    if (qx + 1 > t.maxX) coverage &= 0x5;
+    if (qy < t.minY) coverage &= 0xC;
+    if (qy + 1 > t.maxY) coverage &= 0x3;
+    return coverage;
+}
 
 // Geometry counters of one batch of triangles.
 struct GeometryCounters {

@@ -135,25 +135,32 @@ template <bool kDepth, int kBlendMode>
 [[gnu::always_inline]] inline void singleQuad(const DrawContext& dc, const SetupTriangle& t,
                                               const Box& box, RasterCounters& rc) {
     constexpr bool kBlend = kBlendMode != kBlendNone;
-    const int s = dc.subpixelBits;
     const int qx = box.x0 & ~1, qy = box.y0 & ~1;
-    const int64_t half = int64_t{1} << (s - 1);
-    const int64_t X = (int64_t(qx) << s) + half, Y = (int64_t(qy) << s) + half;
-    // Pixel i at (qx + (i & 1), qy + (i >> 1)); inside ⇔ all three E ≥ 0 ⇔ the OR of the
-    // three has its sign bit clear.
-    int64_t any[4] = {0, 0, 0, 0};
-    for (int e = 0; e < 3; ++e) {
-        const int64_t e0 = t.C[e] + t.A[e] * X + t.B[e] * Y;
-        const int64_t sx = t.A[e] << s, sy = t.B[e] << s;
-        any[0] |= e0;
-        any[1] |= e0 + sx;
-        any[2] |= e0 + sy;
-        any[3] |= (e0 + sx) + sy;
+    unsigned coverage;
+    if (t.maxX <= (t.minX | 1) && t.maxY <= (t.minY | 1)) {
+        // The triangle's own box is this quad (a tile cannot cut it: tiles are
+        // even-aligned): its coverage came with the setup.
+        coverage = t.quadCoverage;
+    } else {  // a larger box that a tile edge cut down to one quad
+        const int s = dc.subpixelBits;
+        const int64_t half = int64_t{1} << (s - 1);
+        const int64_t X = (int64_t(qx) << s) + half, Y = (int64_t(qy) << s) + half;
+        // Pixel i at (qx + (i & 1), qy + (i >> 1)); inside ⇔ all three E ≥ 0 ⇔ the OR of
+        // the three has its sign bit clear.
+        int64_t any[4] = {0, 0, 0, 0};
+        for (int e = 0; e < 3; ++e) {
+            const int64_t e0 = t.C[e] + t.A[e] * X + t.B[e] * Y;
+            const int64_t sx = t.A[e] << s, sy = t.B[e] << s;
+            any[0] |= e0;
+            any[1] |= e0 + sx;
+            any[2] |= e0 + sy;
+            any[3] |= (e0 + sx) + sy;
+        }
+        coverage = unsigned(any[0] >= 0) | unsigned(any[1] >= 0) << 1 |
+                   unsigned(any[2] >= 0) << 2 | unsigned(any[3] >= 0) << 3;
+        coverage &= (qx >= box.x0 ? 0x5u : 0u) | (qx + 1 <= box.x1 ? 0xAu : 0u);
+        coverage &= (qy >= box.y0 ? 0x3u : 0u) | (qy + 1 <= box.y1 ? 0xCu : 0u);
     }
-    unsigned coverage = unsigned(any[0] >= 0) | unsigned(any[1] >= 0) << 1 |
-                        unsigned(any[2] >= 0) << 2 | unsigned(any[3] >= 0) << 3;
-    coverage &= (qx >= box.x0 ? 0x5u : 0u) | (qx + 1 <= box.x1 ? 0xAu : 0u);
-    coverage &= (qy >= box.y0 ? 0x3u : 0u) | (qy + 1 <= box.y1 ? 0xCu : 0u);
     if (!coverage) return;
     if (qx + 1 < dc.fb->width() && qy + 1 < dc.fb->height()) {
         if (dc.gouraud && !dc.st.specularEnable) {

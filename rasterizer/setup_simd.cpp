@@ -50,6 +50,7 @@ struct Geometry4 {
     F64x4 dx1, dy1, dx2, dy2, invArea;  // what the attribute planes share
     I64x4 keep;                        // all ones: not culled, pixels in the clip rect
     I64x4 swapped;                     // all ones: vertices 1 and 2 exchanged (A < 0)
+    I64x4 quadCoverage;                // SetupTriangle::quadCoverage
 };
 
 // setupTriangle's geometry for the triangles (v[k][0], v[k][1], v[k][2]), k = 0..3, of
@@ -116,14 +117,34 @@ RG_LANES void setupGeometry4(const DrawContext& dc, const V* const (&v)[4][3], G
     g.maxY = __builtin_convertvector(maxY, I32x4);
 
     // ---- edge functions with the top-left rule -----------------------------------------
+    // With the coverage of the quad (QX, QY) a box inside one quad lies in
+    // (quadCoverageOf): each E at the four pixel centres, exact in double (integers below
+    // 2^49: C < 2^47, A·QX and B·QY < 2^45 for a box inside the target).
+    const I64x4 boxX0 = toInt64(minX), boxY0 = toInt64(minY);
+    const I64x4 boxX1 = toInt64(maxX), boxY1 = toInt64(maxY);
+    const I64x4 qx = boxX0 & ~int64_t{1}, qy = boxY0 & ~int64_t{1};
+    const F64x4 QX = toDouble(qx) * one + half, QY = toDouble(qy) * one + half;
+    I64x4 inside[4] = {~I64x4{}, ~I64x4{}, ~I64x4{}, ~I64x4{}};  // pixel i: every E ≥ 0
     for (int e = 0; e < 3; ++e) {
         const int a = e, b = e == 2 ? 0 : e + 1;
         const F64x4 dxe = X[b] - X[a], dye = Y[b] - Y[a];
         const I64x4 topLeft = (I64x4)(dye < 0.0) | ((I64x4)(dye == 0.0) & (I64x4)(dxe > 0.0));
+        const F64x4 c = dye * X[a] - dxe * Y[a];
         g.A[e] = toInt64(-dye);
         g.B[e] = toInt64(dxe);
-        g.C[e] = toInt64(dye * X[a] - dxe * Y[a]) + ~topLeft;  // ~topLeft: −1 or 0
+        g.C[e] = toInt64(c) + ~topLeft;  // ~topLeft: −1 or 0
+        // C as a double: c − 1 where the edge is not top-left (the bits of −1.0 or +0.0).
+        const F64x4 cFull = c + (F64x4)(~topLeft & (I64x4)splat(-1.0));
+        const F64x4 e0 = (cFull - dye * QX) + dxe * QY, stepX = -dye * one, stepY = dxe * one;
+        inside[0] &= (I64x4)(e0 >= 0.0);
+        inside[1] &= (I64x4)(e0 + stepX >= 0.0);
+        inside[2] &= (I64x4)(e0 + stepY >= 0.0);
+        inside[3] &= (I64x4)((e0 + stepX) + stepY >= 0.0);
     }
+    I64x4 coverage = (inside[0] & 1) | (inside[1] & 2) | (inside[2] & 4) | (inside[3] & 8);
+    coverage &= ~((I64x4)(qx < boxX0) & 0x5) & ~((I64x4)(qx + 1 > boxX1) & 0xA);
+    coverage &= ~((I64x4)(qy < boxY0) & 0x3) & ~((I64x4)(qy + 1 > boxY1) & 0xC);
+    g.quadCoverage = coverage & (I64x4)(boxX1 <= (boxX0 | 1)) & (I64x4)(boxY1 <= (boxY0 | 1));
 
     // ---- planes --------------------------------------------------------------------------
     const F64x4 x0 = X[0] * inv, y0 = Y[0] * inv;
@@ -252,6 +273,7 @@ RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
     t.maxY = g.maxY[k];
     t.x0 = g.x0[k];
     t.y0 = g.y0[k];
+    t.quadCoverage = uint32_t(g.quadCoverage[k]);
     if (dc.depthOn) {
         t.zc = g.zc[k];
         t.zdx = g.zdx[k];

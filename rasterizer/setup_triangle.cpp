@@ -64,6 +64,7 @@ bool setupTriangle(const DrawContext& dc, const ProcessedVertex& v0, const Proce
         t.B[e] = dxe;
         t.C[e] = dye * X[a] - dxe * Y[a] - (topLeft ? 0 : 1);
     }
+    t.quadCoverage = quadCoverageOf(t, s);
 
     // ---- attribute planes --------------------------------------------------------------
     const double inv = 1.0 / double(one);

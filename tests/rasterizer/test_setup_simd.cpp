@@ -54,7 +54,7 @@ std::string differingField(const SetupTriangle& a, const SetupTriangle& b) {
     RG_FIELD(A) RG_FIELD(B) RG_FIELD(C)
     RG_FIELD(minX) RG_FIELD(minY) RG_FIELD(maxX) RG_FIELD(maxY)
     RG_FIELD(x0) RG_FIELD(y0) RG_FIELD(zc) RG_FIELD(zdx) RG_FIELD(zdy)
-    RG_FIELD(invW.c) RG_FIELD(invW.dx) RG_FIELD(invW.dy)
+    RG_FIELD(invW.c) RG_FIELD(invW.dx) RG_FIELD(invW.dy) RG_FIELD(quadCoverage)
     RG_FIELD(colorC) RG_FIELD(colorDx) RG_FIELD(colorDy)
     RG_FIELD(flatDiffuse) RG_FIELD(flatSpecular) RG_FIELD(texPlanes)
 #undef RG_FIELD
