@@ -150,6 +150,13 @@ struct RowTerms {
 
 constexpr uint8_t kPopcount4[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
 
+// Per coverage mask: all ones in the 32-bit lanes of the covered pixels (bit i: lane i).
+alignas(16) constexpr uint32_t kPixelMask[16][4] = {
+    {0, 0, 0, 0}, {~0u, 0, 0, 0}, {0, ~0u, 0, 0}, {~0u, ~0u, 0, 0},
+    {0, 0, ~0u, 0}, {~0u, 0, ~0u, 0}, {0, ~0u, ~0u, 0}, {~0u, ~0u, ~0u, 0},
+    {0, 0, 0, ~0u}, {~0u, 0, 0, ~0u}, {0, ~0u, 0, ~0u}, {~0u, ~0u, 0, ~0u},
+    {0, 0, ~0u, ~0u}, {~0u, 0, ~0u, ~0u}, {0, ~0u, ~0u, ~0u}, {~0u, ~0u, ~0u, ~0u}};
+
 }  // namespace sse
 
 // Blend modes the fast path compiles with constant factors; kBlendGeneric reads the state.
@@ -267,14 +274,16 @@ template <bool kDepth, int kBlendMode>
         _mm_storel_epi64(reinterpret_cast<__m128i*>(color + row1), _mm_srli_si128(out, 8));
         return;
     }
-    const uint32_t channels = (st.colorWriteMask & kWriteR ? 0x000000FFu : 0u) |
-                              (st.colorWriteMask & kWriteG ? 0x0000FF00u : 0u) |
-                              (st.colorWriteMask & kWriteB ? 0x00FF0000u : 0u) |
-                              (st.colorWriteMask & kWriteA ? 0xFF000000u : 0u);
-    const __m128i m = _mm_setr_epi32(int((passed & 1) ? channels : 0u),
-                                     int((passed & 2) ? channels : 0u),
-                                     int((passed & 4) ? channels : 0u),
-                                     int((passed & 8) ? channels : 0u));
+    // The bytes to write: the passed pixels (a table load instead of four selects; a
+    // mesh of tiny triangles takes this path for nearly every quad), their enabled channels.
+    __m128i m = _mm_load_si128(reinterpret_cast<const __m128i*>(sse::kPixelMask[passed]));
+    if (st.colorWriteMask != kWriteRGBA) {
+        const uint32_t channels = (st.colorWriteMask & kWriteR ? 0x000000FFu : 0u) |
+                                  (st.colorWriteMask & kWriteG ? 0x0000FF00u : 0u) |
+                                  (st.colorWriteMask & kWriteB ? 0x00FF0000u : 0u) |
+                                  (st.colorWriteMask & kWriteA ? 0xFF000000u : 0u);
+        m = _mm_and_si128(m, _mm_set1_epi32(int(channels)));
+    }
     out = _mm_or_si128(_mm_and_si128(m, out), _mm_andnot_si128(m, dst));
     _mm_storel_epi64(reinterpret_cast<__m128i*>(color + row0), out);
     _mm_storel_epi64(reinterpret_cast<__m128i*>(color + row1), _mm_srli_si128(out, 8));
