@@ -296,6 +296,7 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
     // A compiled whole-quad cascade takes both quads as they are here, one component per
     // 8-lane register (FragmentQuadPair), with no transposes and one call per pair.
     const bool pairs = dc.path == Path::Fast && dc.tu->shadesPairs();
+    const tex::TextureUnits::PairShader shadePair = pairs ? dc.tu->pairShader() : tex::TextureUnits::PairShader{};
     alignas(32) tex::FragmentQuadPair pair;
     uint64_t fetched = 0;  // of the pairs, added to the texture units' counter at the end
     // The fragment operations of a shaded pair wait until the next pair has been handed to
@@ -360,7 +361,7 @@ __attribute__((target("avx2"), noinline)) void texturedRunImpl(
                     _mm256_store_ps(dst[a], v);
                 }
             }
-            fetched += dc.tu->shadeQuadPair(pair, shaded[slot]);
+            fetched += shadePair(pair, shaded[slot]);
             if (pendingCov)
                 pairOutputPendingAvx2<kDepth, kBlendMode>(dc, t, pendingQx, qy, pendingCov,
                                                           shaded[slot ^ 1], pendingSpecular, rc);

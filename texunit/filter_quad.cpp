@@ -854,23 +854,47 @@ template <Target kTarget, Addr kS, Addr kT>
 // pixels 2, 3 — or false when the taps do not fit the block (nothing written).
 // The arithmetic is bilinear8's (rowPairs8 and its column pass) with the pixels arranged
 // by position instead of even/odd: the same biased pmaddwd sums, the same rounding.
+// The block's first texel on an axis of extent n whose unaddressed first taps start at b
+// (the smallest over the pixels), when the block's `span` texels b..b + span − 1 address
+// to consecutive texels (no wrap or clamp inside it): then every pixel's taps are its
+// unaddressed ones shifted by the same amount. −1 otherwise.
+template <Addr kA>
+[[gnu::always_inline]] inline int32_t blockStart(int32_t b, int32_t n, int32_t span) {
+    if constexpr (kA == Addr::Edge) {
+        return b >= 0 && b <= n - span ? b : -1;  // clamp is the identity on [0, n − 1]
+    } else {
+        const int32_t a = b & (n - 1);  // address4's mask, also for a negative b
+        return a <= n - span ? a : -1;  // no carry into bit log2(n) up to b + span − 1
+    }
+}
+// The floor and packed weight pairs of linearAxis8 without the addressing.
+struct RawAxis8 {
+    __m256i b, w;
+};
+[[gnu::always_inline]] RG_AVX2 inline RawAxis8 rawAxis8(__m256 c, int32_t n) {
+    const __m256i sub = _mm256_sub_epi32(subTexel8(c, n), _mm256_set1_epi32(1 << (kSubTexelBits - 1)));
+    const __m256i frac = _mm256_and_si256(sub, _mm256_set1_epi32((1 << kSubTexelBits) - 1));
+    return {_mm256_srai_epi32(sub, kSubTexelBits),
+            _mm256_or_si256(_mm256_slli_epi32(frac, 16),
+                            _mm256_sub_epi32(_mm256_set1_epi32(1 << kSubTexelBits), frac))};
+}
 template <Addr kS, Addr kT>
 [[gnu::always_inline]] RG_AVX2 inline bool bilinearBlockPair(const LevelView& L, __m256 s8, __m256 t8,
                                                              __m256i& w01, __m256i& w23) {
-    const Axis8 ax = linearAxis8<kS>(s8, L.width);
-    const Axis8 ay = linearAxis8<kT>(t8, L.height);
+    // linearAxis8's floors and weights; the taps are addressed once, for the block: tap
+    // i0 of a pixel is address(b), i1 address(b + 1), and with b − bmin in [0, 2] both lie
+    // in the block's 4 columns (rows: b − bmin in [0, 1], 3 rows).
+    const RawAxis8 ax = rawAxis8(s8, L.width);
+    const RawAxis8 ay = rawAxis8(t8, L.height);
     const __m256i one = _mm256_set1_epi32(1);
-    const __m256i col0 = minLanes8(ax.i0), row0 = minLanes8(ay.i0);
-    const __m256i dcol = _mm256_sub_epi32(ax.i0, col0), drow = _mm256_sub_epi32(ay.i0, row0);
-    const __m256i bad = _mm256_or_si256(
-        _mm256_or_si256(_mm256_cmpgt_epi32(dcol, _mm256_set1_epi32(2)),
-                        _mm256_cmpgt_epi32(drow, one)),
-        _mm256_andnot_si256(
-            _mm256_and_si256(_mm256_cmpeq_epi32(ax.i1, _mm256_add_epi32(ax.i0, one)),
-                             _mm256_cmpeq_epi32(ay.i1, _mm256_add_epi32(ay.i0, one))),
-            _mm256_set1_epi32(-1)));
-    const int32_t c = _mm256_cvtsi256_si32(col0), r = _mm256_cvtsi256_si32(row0);
-    if (!_mm256_testz_si256(bad, bad) || c + 3 >= L.width || r + 2 >= L.height) return false;
+    const __m256i col0 = minLanes8(ax.b), row0 = minLanes8(ay.b);
+    const __m256i dcol = _mm256_sub_epi32(ax.b, col0), drow = _mm256_sub_epi32(ay.b, row0);
+    const __m256i bad = _mm256_or_si256(_mm256_cmpgt_epi32(dcol, _mm256_set1_epi32(2)),
+                                        _mm256_cmpgt_epi32(drow, one));
+    if (!_mm256_testz_si256(bad, bad)) return false;
+    const int32_t c = blockStart<kS>(_mm256_cvtsi256_si32(col0), L.width, 4);
+    const int32_t r = blockStart<kT>(_mm256_cvtsi256_si32(row0), L.height, 3);
+    if (c < 0 || r < 0) return false;
     const Rgba8* row = L.data + (size_t(r) * size_t(L.width) + size_t(c));
     auto load4texels = [](const Rgba8* q) __attribute__((always_inline)) {
         return _mm_loadu_si128(reinterpret_cast<const __m128i*>(q));
@@ -885,14 +909,12 @@ template <Addr kS, Addr kT>
                   t01 = _mm256_permutevar8x32_epi32(block01, idx1),
                   t10 = _mm256_permutevar8x32_epi32(block12, idx),
                   t11 = _mm256_permutevar8x32_epi32(block12, idx1);
-    // Weight pairs of pixel k (and k + 4) over its half: wx, wy.
-    __m256i wx[4], wy[4];
-    #pragma GCC unroll 4
-    for (int k = 0; k < 4; ++k) {
-        const __m256i sel = _mm256_setr_epi32(k, k, k, k, k + 4, k + 4, k + 4, k + 4);
-        wx[k] = _mm256_permutevar8x32_epi32(ax.w, sel);
-        wy[k] = _mm256_permutevar8x32_epi32(ay.w, sel);
-    }
+    // Weight pairs of pixel k (and k + 4) over its half: wx, wy (pixels 0–3 and 4–7 are
+    // the two 128-bit halves, so an in-lane shuffle).
+    const __m256i wx[4] = {_mm256_shuffle_epi32(ax.w, 0x00), _mm256_shuffle_epi32(ax.w, 0x55),
+                           _mm256_shuffle_epi32(ax.w, 0xAA), _mm256_shuffle_epi32(ax.w, 0xFF)};
+    const __m256i wy[4] = {_mm256_shuffle_epi32(ay.w, 0x00), _mm256_shuffle_epi32(ay.w, 0x55),
+                           _mm256_shuffle_epi32(ay.w, 0xAA), _mm256_shuffle_epi32(ay.w, 0xFF)};
     __m256i r0[4], r1[4], f[4];
     blockRowSums(t00, t01, wx, r0);
     blockRowSums(t10, t11, wx, r1);

@@ -382,6 +382,9 @@ uint64_t TextureUnits::shadeQuadPair(const FragmentQuadPair& pair, std::array<Rg
     const detail::CompiledStages& compiled = *compiled_;
     return compiled.cascadePair(compiled, pair, detail::quad::splat(tfactor_), out.data());
 }
+TextureUnits::PairShader TextureUnits::pairShader() const {
+    return {compiled_->cascadePair, compiled_.get(), detail::quad::splat(tfactor_)};
+}
 void TextureUnits::addFetches(uint64_t n) const {
     if (n) fetches_->add(n);
 }

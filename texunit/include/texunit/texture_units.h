@@ -11,6 +11,8 @@
 // and, for pixel transfers (draw/copy pixels), applyPixelTransfer() (SGIX_pixel_texture).
 #pragma once
 
+#include <emmintrin.h>
+
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -105,6 +107,20 @@ class TextureUnits {
     // texel fetches, which the caller hands to addFetches (once per run of pairs: the
     // counter's per-thread shard is a thread_local lookup).
     uint64_t shadeQuadPair(const FragmentQuadPair& pair, std::array<Rgba8, 8>& out) const;
+    // shadeQuadPair as a callable a rasterizer run keeps (only when shadesPairs(); valid
+    // until the next setter): the compiled cascade called directly, without the call
+    // through TextureUnits per pair. The same function, so the same bytes and fetches.
+    struct PairShader {
+        using Fn = uint64_t (*)(const detail::CompiledStages&, const FragmentQuadPair&, __m128i,
+                                Rgba8*);
+        Fn fn = nullptr;
+        const detail::CompiledStages* stages = nullptr;
+        __m128i tfactor = _mm_setzero_si128();
+        uint64_t operator()(const FragmentQuadPair& pair, std::array<Rgba8, 8>& out) const {
+            return fn(*stages, pair, tfactor, out.data());
+        }
+    };
+    PairShader pairShader() const;
     void addFetches(uint64_t n) const;
     // Pixel transfer of one row (SGIX_pixel_texture when enabled; identity otherwise).
     void applyPixelTransfer(std::span<Rgba8> pixels) const;
