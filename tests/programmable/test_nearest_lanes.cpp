@@ -1,6 +1,6 @@
 // The point-sampled fast fetch of fragment programs (rasterizer/program.h NearestFloat2D,
 // its four-lane and N-quad forms in quad_program.h: detail::nearestIndices and
-// detail::nearestLoads; the wide indices and the AVX2 gather of quad_program_wide.h) against the tap-list reference (tex::programFetch on
+// detail::nearestLoads; the wide indices and the AVX2 fetch of quad_program_wide.h) against the tap-list reference (tex::programFetch on
 // Path::Reference), bit for bit, over random float textures, samplers and coordinates —
 // NaN, ±infinity, negative, huge, denormal, −0 and texel boundaries ± one ulp included.
 #include <gtest/gtest.h>
@@ -150,7 +150,7 @@ TEST(ProgramFetch, PointSampledFastFetchMatchesTheTapListBitForBit) {
                                                    << sx[i] << ", " << ty[i] << ")";
                 }
             }
-            // The AVX2 kernel's one-channel fetch (gather), where the CPU has AVX2.
+            // The AVX2 kernel's one-channel fetch, where the CPU has AVX2.
             if (n.data1 && __builtin_cpu_supports("avx2")) {
                 alignas(32) int32_t liveBits32[16];
                 for (int i = 0; i < 16; ++i) liveBits32[i] = ((liveBits[i / 4] >> (i % 4)) & 1u) ? -1 : 0;
