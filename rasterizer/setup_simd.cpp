@@ -338,14 +338,18 @@ struct Transforms {
     const glm::mat3& normalMatrix;
 };
 
-template <bool kAvx2, class V>
+// kIndexedList: the caller checked that `primitive` is a triangle list with indices (most
+// meshes), so that the assembly below compiles to loads of consecutive indices instead of
+// a switch and two branches per triangle and vertex.
+template <bool kAvx2, class V, bool kIndexedList = false>
 RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_t begin,
                              uint32_t end, std::span<const uint32_t> indices,
                              std::span<const Vertex> vertices, const V* processed,
                              const Transforms* transforms, std::vector<SetupTriangle>& out,
                              std::vector<Plane>& texPool, GeometryCounters& gc) {
+    if constexpr (kIndexedList) primitive = Primitive::TriangleList;
     out.reserve(out.size() + (end - begin));
-    const bool indexed = !indices.empty();
+    const bool indexed = kIndexedList || !indices.empty();
     // The vertices of triangles kPrefetch ahead are requested from memory: a draw's
     // vertex array is far larger than L2 (216 or 32 bytes each), and the loop body is too long
     // for the core to reach the next group's loads on its own (measured: a third of the
@@ -445,8 +449,12 @@ __attribute__((target("avx2"))) void setupCompactAvx2(
     std::span<const uint32_t> indices, std::span<const Vertex> vertices,
     const FastVertex* processed, const Transforms& tr, std::vector<SetupTriangle>& out,
     std::vector<Plane>& texPool, GeometryCounters& gc) {
-    setupRangeBody<true>(dc, primitive, begin, end, indices, vertices, processed, &tr, out,
-                         texPool, gc);
+    if (primitive == Primitive::TriangleList && !indices.empty())
+        setupRangeBody<true, FastVertex, true>(dc, primitive, begin, end, indices, vertices,
+                                               processed, &tr, out, texPool, gc);
+    else
+        setupRangeBody<true>(dc, primitive, begin, end, indices, vertices, processed, &tr,
+                             out, texPool, gc);
 }
 
 void setupCompactSse2(const DrawContext& dc, Primitive primitive, uint32_t begin,
@@ -454,8 +462,12 @@ void setupCompactSse2(const DrawContext& dc, Primitive primitive, uint32_t begin
                       std::span<const Vertex> vertices, const FastVertex* processed,
                       const Transforms& tr, std::vector<SetupTriangle>& out,
                       std::vector<Plane>& texPool, GeometryCounters& gc) {
-    setupRangeBody<false>(dc, primitive, begin, end, indices, vertices, processed, &tr, out,
-                          texPool, gc);
+    if (primitive == Primitive::TriangleList && !indices.empty())
+        setupRangeBody<false, FastVertex, true>(dc, primitive, begin, end, indices, vertices,
+                                                processed, &tr, out, texPool, gc);
+    else
+        setupRangeBody<false>(dc, primitive, begin, end, indices, vertices, processed, &tr,
+                              out, texPool, gc);
 }
 
 }  // namespace
