@@ -286,7 +286,8 @@ bool programAvx2();
 
 // Quads per group for programs that run on a QuadGroupContext (quad_program.h): the SSE2
 // kernel, and the AVX2 kernel's QuadGroupWideContext (two quads per 256-bit register; eight
-// quads give the gathers of four registers to overlap, measured faster than four or twelve).
+// quads give the texel loads of four registers to overlap, measured faster than four or
+// twelve).
 constexpr int kGroupQuads = 4;
 constexpr int kWideGroupQuads = 8;
 
@@ -319,6 +320,23 @@ inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const ProgramTria
     fp(g);
     g.endGroup();
     for (int i = 0; i < N; ++i) finishQuadLanes(d, qx[size_t(i)], qy[size_t(i)], g.quad(i), zStore[i], c);
+}
+
+// The coverage of the quads along a row for the AVX2 kernel: the three edge functions at a
+// quad's four pixels as int64 lanes (edge e, pixel p: Ep[e][p]), OR-ed so that a lane's
+// sign is set where any edge is negative — the integers and the test of runQuadGroups'
+// scalar loop — then stepped to the next quad. Bit p: pixel p covered. A target function
+// taking its vectors through memory, like nearestFetchAvx2; inlined into the flattened
+// kernel, they stay in registers.
+[[gnu::target("avx2")]] inline uint32_t quadCoverageStepAvx2(int64_t (&Ep)[3][4], const int64_t (&stepX)[3]) {
+    __m256i e[3];
+    for (int k = 0; k < 3; ++k) e[k] = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(Ep[k]));
+    const __m256i any = _mm256_or_si256(_mm256_or_si256(e[0], e[1]), e[2]);
+    const uint32_t negative = uint32_t(_mm256_movemask_pd(_mm256_castsi256_pd(any)));
+    for (int k = 0; k < 3; ++k)
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(Ep[k]),
+                            _mm256_add_epi64(e[k], _mm256_set1_epi64x(stepX[k])));
+    return ~negative & 15u;
 }
 
 template <class FP>
@@ -390,6 +408,7 @@ struct ProgramKernel {
     static void runQuadGroups(const ProgramKernel& k, const ProgramTriangle& t, int x0, int y0, int x1,
                               int y1, ProgramCounters& counters) {
         constexpr int N = Group::kQuads;
+        constexpr bool kWide = std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>;
         const ProgramDraw& d = *k.d;
         ProgramCounters c;
         std::array<QuadVaryings, N> q;
@@ -438,13 +457,21 @@ struct ProgramKernel {
             const int64_t X = (int64_t(qx0) << s) + half;
             int64_t E[3];
             for (int e = 0; e < 3; ++e) E[e] = t.C[size_t(e)] + t.A[size_t(e)] * X + t.B[size_t(e)] * Y;
+            int64_t Ep[3][4];  // the AVX2 kernel's form of E + off
+            if constexpr (kWide)
+                for (int e = 0; e < 3; ++e)
+                    for (int p = 0; p < 4; ++p) Ep[e][p] = E[e] + off[e][p];
             for (int qx = qx0; qx <= qxb; qx += 2) {
                 uint32_t m = 0;
-                for (int p = 0; p < 4; ++p) {
-                    const int64_t all = (E[0] + off[0][p]) | (E[1] + off[1][p]) | (E[2] + off[2][p]);
-                    m |= uint32_t(all >= 0) << p;  // every edge ≥ 0
+                if constexpr (kWide) {
+                    m = quadCoverageStepAvx2(Ep, stepX);
+                } else {
+                    for (int p = 0; p < 4; ++p) {
+                        const int64_t all = (E[0] + off[0][p]) | (E[1] + off[1][p]) | (E[2] + off[2][p]);
+                        m |= uint32_t(all >= 0) << p;  // every edge ≥ 0
+                    }
+                    for (int e = 0; e < 3; ++e) E[e] += stepX[e];
                 }
-                for (int e = 0; e < 3; ++e) E[e] += stepX[e];
                 m &= rows & ((qx >= x0 ? 5u : 0u) | (qx + 1 <= x1 ? 10u : 0u));
                 if (!m) continue;
                 interpolateQuad(d, t, qx, qy, q[size_t(pending)], iw[size_t(pending)]);
