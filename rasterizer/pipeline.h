@@ -306,12 +306,15 @@ void setupTrianglesFast(const DrawContext& dc, Primitive primitive, uint32_t beg
 // setupTrianglesFast on FastVertex records (compactVertices(dc)): the same triangles,
 // planes and counters; a triangle with a vertex that is not unclipped gets its vertices
 // from processVertexInto(worldViewProj, worldView, normalMatrix) and takes clipAndSetup.
+// prefetch = false when the caller has just written the records the triangles use (they
+// are in cache; the prefetches' index loads and address arithmetic would be pure cost).
 void setupTrianglesCompact(const DrawContext& dc, Primitive primitive, uint32_t begin,
                            uint32_t end, std::span<const uint32_t> indices,
                            std::span<const Vertex> vertices, const FastVertex* processed,
                            const glm::mat4& worldViewProj, const glm::mat4& worldView,
                            const glm::mat3& normalMatrix, std::vector<SetupTriangle>& out,
-                           std::vector<Plane>& texPool, GeometryCounters& gc);
+                           std::vector<Plane>& texPool, GeometryCounters& gc,
+                           bool prefetch = true);
 // ---- raster_reference.cpp / raster_tiles.cpp -------------------------------------------
 void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>& tris,
                         const std::vector<Plane>& texPool, RasterCounters& rc);

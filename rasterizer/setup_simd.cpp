@@ -331,11 +331,13 @@ RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
 }
 
 // The matrices a FastVertex draw recomputes the ProcessedVertex of a clipped triangle's
-// vertices with (processVertexInto).
+// vertices with (processVertexInto), and whether to prefetch the records
+// (setupTrianglesCompact).
 struct Transforms {
     const glm::mat4& worldViewProj;
     const glm::mat4& worldView;
     const glm::mat3& normalMatrix;
+    bool prefetch;
 };
 
 // kIndexedList: the caller checked that `primitive` is a triangle list with indices (most
@@ -353,10 +355,12 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
     // The vertices of triangles kPrefetch ahead are requested from memory: a draw's
     // vertex array is far larger than L2 (216 or 32 bytes each), and the loop body is too long
     // for the core to reach the next group's loads on its own (measured: a third of the
-    // setup time went to waiting on the first vertex loads of a group).
+    // setup time went to waiting on the first vertex loads of a group). Not for records the
+    // caller has just written (setupTrianglesCompact's `prefetch`).
     constexpr uint32_t kPrefetch = 16;
+    const bool prefetch = !transforms || transforms->prefetch;
     for (uint32_t i = begin; i < end; i += 4) {
-        if (i + kPrefetch + 4 <= end) {
+        if (prefetch && i + kPrefetch + 4 <= end) {
             for (uint32_t k = 0; k < 4; ++k) {
                 const std::array<uint32_t, 3> tv = triangleVertices(primitive, i + kPrefetch + k);
                 for (uint32_t x : tv) {
@@ -491,9 +495,9 @@ void setupTrianglesCompact(const DrawContext& dc, Primitive primitive, uint32_t 
                            std::span<const Vertex> vertices, const FastVertex* processed,
                            const glm::mat4& worldViewProj, const glm::mat4& worldView,
                            const glm::mat3& normalMatrix, std::vector<SetupTriangle>& out,
-                           std::vector<Plane>& texPool, GeometryCounters& gc) {
+                           std::vector<Plane>& texPool, GeometryCounters& gc, bool prefetch) {
     static const bool avx2 = haveAvx2();
-    const Transforms tr{worldViewProj, worldView, normalMatrix};
+    const Transforms tr{worldViewProj, worldView, normalMatrix, prefetch};
     if (avx2)
         setupCompactAvx2(dc, primitive, begin, end, indices, vertices, processed, tr, out,
                          texPool, gc);
