@@ -182,6 +182,28 @@ inline __m128 select(__m128 mask, __m128 a, __m128 b) {  // mask ? a : b
     return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
 }
 
+// The level choice of a cube quad from its directions (x, y, z), face coordinates (s, t)
+// and faces: λ from all four pixels measured on pixel 0's face.
+[[gnu::always_inline]] inline LevelChoice cubeChoice(const QuadSampler& qs, __m128 x, __m128 y,
+                                                     __m128 z, __m128 s, __m128 t,
+                                                     const int face[4]) {
+    float s1 = lane<1>(s), t1 = lane<1>(t), s2 = lane<2>(s), t2 = lane<2>(t);
+    if (face[1] != face[0]) {
+        const CubeCoord cc =
+            detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(lane<1>(x), lane<1>(y), lane<1>(z)));
+        s1 = cc.s;
+        t1 = cc.t;
+    }
+    if (face[2] != face[0]) {
+        const CubeCoord cc =
+            detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(lane<2>(x), lane<2>(y), lane<2>(z)));
+        s2 = cc.s;
+        t2 = cc.t;
+    }
+    const int32_t lambda = quadLambdaInline(lane<0>(s), s1, s2, lane<0>(t), t1, t2,
+                                            qs.baseSizeF[0], qs.baseSizeF[1], 2);
+    return chooseLevelsInline(qs.levels, std::clamp(lambda + qs.lodBias, qs.lodMin, qs.lodMax));
+}
 // Coordinates of the four pixels (s, t per lane; cube: on each pixel's own face) and the
 // level choice from the biased, clamped λ — or the constant choice when λ cannot matter.
 // x, y, z, w: the four pixels' s, t, r, q (one component per register, pixel p in lane p).
@@ -223,22 +245,7 @@ template <Target kTarget>
             _mm_add_epi32(fi, _mm_andnot_si128(_mm_castps_si128(pos), _mm_set1_epi32(1)));
         _mm_storeu_si128(reinterpret_cast<__m128i*>(face), face4);
         if (qs.constantChoice) return qs.choice;
-        // λ from all four pixels measured on pixel 0's face.
-        float s1 = lane<1>(s), t1 = lane<1>(t), s2 = lane<2>(s), t2 = lane<2>(t);
-        if (face[1] != face[0]) {
-            const CubeCoord cc =
-                detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(lane<1>(x), lane<1>(y), lane<1>(z)));
-            s1 = cc.s;
-            t1 = cc.t;
-        }
-        if (face[2] != face[0]) {
-            const CubeCoord cc =
-                detail::projectOntoCubeFace(CubeFace(face[0]), glm::vec3(lane<2>(x), lane<2>(y), lane<2>(z)));
-            s2 = cc.s;
-            t2 = cc.t;
-        }
-        lambda = quadLambdaInline(lane<0>(s), s1, s2, lane<0>(t), t1, t2, qs.baseSizeF[0],
-                                  qs.baseSizeF[1], 2);
+        return cubeChoice(qs, x, y, z, s, t, face);
     } else {
         // x/1 is x (exact division; a NaN stays a NaN, which every later step treats
         // alike whatever its payload), so q = 1 on all four pixels — affine coordinates,
@@ -930,6 +937,43 @@ template <Addr kS, Addr kT>
     return true;
 }
 
+// select on eight lanes: mask ? a : b.
+[[gnu::always_inline]] RG_AVX2 inline __m256 sel(__m256 m, __m256 a, __m256 b) {
+    return _mm256_or_ps(_mm256_and_ps(m, a), _mm256_andnot_ps(m, b));
+}
+// projectLanes' cube-face selection for the eight pixels of a pair (quad h in lanes
+// 4h..4h+3): the same comparisons (ordered, false on NaN), selections, division, add and
+// multiply lane for lane, so the same s, t and faces.
+[[gnu::always_inline]] RG_AVX2 inline void selectCube8(__m256 x, __m256 y, __m256 z, __m256& s,
+                                                       __m256& t, __m256i& face8) {
+    const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256 signBit = _mm256_set1_ps(-0.0f);
+    const __m256 ax = _mm256_and_ps(x, absMask), ay = _mm256_and_ps(y, absMask),
+                 az = _mm256_and_ps(z, absMask);
+    const __m256 zero = _mm256_setzero_ps();
+    const __m256 isX = _mm256_and_ps(_mm256_cmp_ps(ax, ay, _CMP_GE_OS), _mm256_cmp_ps(ax, az, _CMP_GE_OS));
+    const __m256 isY = _mm256_andnot_ps(isX, _mm256_cmp_ps(ay, az, _CMP_GE_OS));
+    const __m256 isZ =
+        _mm256_andnot_ps(_mm256_or_ps(isX, isY), _mm256_castsi256_ps(_mm256_set1_epi32(-1)));
+    const __m256 px = _mm256_cmp_ps(x, zero, _CMP_GE_OS), py = _mm256_cmp_ps(y, zero, _CMP_GE_OS),
+                 pz = _mm256_cmp_ps(z, zero, _CMP_GE_OS);
+    const __m256 nx = _mm256_xor_ps(x, signBit), ny = _mm256_xor_ps(y, signBit),
+                 nz = _mm256_xor_ps(z, signBit);
+    const __m256 sc = sel(isX, sel(px, nz, z), sel(isY, x, sel(pz, x, nx)));
+    const __m256 tc = sel(isY, sel(py, z, nz), ny);
+    const __m256 ma = sel(isX, x, sel(isY, y, z));
+    const __m256 a = _mm256_and_ps(ma, absMask);
+    const __m256 ok = _mm256_cmp_ps(a, zero, _CMP_GT_OS);
+    const __m256 one = _mm256_set1_ps(1.0f), half = _mm256_set1_ps(0.5f);
+    s = sel(ok, _mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(sc, a), one), half), half);
+    t = sel(ok, _mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(tc, a), one), half), half);
+    const __m256i fi =
+        _mm256_or_si256(_mm256_and_si256(_mm256_castps_si256(isY), _mm256_set1_epi32(2)),
+                        _mm256_and_si256(_mm256_castps_si256(isZ), _mm256_set1_epi32(4)));
+    const __m256 pos = sel(isX, px, sel(isY, py, pz));
+    face8 = _mm256_add_epi32(fi, _mm256_andnot_si256(_mm256_castps_si256(pos), _mm256_set1_epi32(1)));
+}
+
 // cascadeStageOfPair for both quads (both covered) of a pair.
 template <Target kT, Addr kS, Addr kU, bool kTexCur>
 [[gnu::always_inline]] RG_AVX2 inline uint64_t cascadeStageOfBoth(const CompiledStages& c, int i,
@@ -942,11 +986,36 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
     int face[2][4];
     __m128i face4[2];
     LevelChoice ch[2];
-    #pragma GCC unroll 2
-    for (int h = 0; h < 2; ++h)
-        ch[h] = projectLanes<kT>(qs, _mm_load_ps(&tc[0][4 * h]), _mm_load_ps(&tc[1][4 * h]),
-                                 _mm_load_ps(&tc[2][4 * h]), _mm_load_ps(&tc[3][4 * h]), s[h],
-                                 t[h], face[h], face4[h]);
+    if constexpr (kT == Target::Cube) {
+        // Both quads' face selection in one pass (selectCube8), then each quad's λ.
+        const __m256 x8 = _mm256_load_ps(tc[0]), y8 = _mm256_load_ps(tc[1]),
+                     z8 = _mm256_load_ps(tc[2]);
+        __m256 s8, t8;
+        __m256i face8;
+        selectCube8(x8, y8, z8, s8, t8, face8);
+        s[0] = _mm256_castps256_ps128(s8);
+        s[1] = _mm256_extractf128_ps(s8, 1);
+        t[0] = _mm256_castps256_ps128(t8);
+        t[1] = _mm256_extractf128_ps(t8, 1);
+        face4[0] = _mm256_castsi256_si128(face8);
+        face4[1] = _mm256_extracti128_si256(face8, 1);
+        #pragma GCC unroll 2
+        for (int h = 0; h < 2; ++h) {
+            if (qs.constantChoice) {
+                ch[h] = qs.choice;
+                continue;
+            }
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(face[h]), face4[h]);
+            ch[h] = cubeChoice(qs, _mm_load_ps(&tc[0][4 * h]), _mm_load_ps(&tc[1][4 * h]),
+                               _mm_load_ps(&tc[2][4 * h]), s[h], t[h], face[h]);
+        }
+    } else {
+        #pragma GCC unroll 2
+        for (int h = 0; h < 2; ++h)
+            ch[h] = projectLanes<kT>(qs, _mm_load_ps(&tc[0][4 * h]), _mm_load_ps(&tc[1][4 * h]),
+                                     _mm_load_ps(&tc[2][4 * h]), _mm_load_ps(&tc[3][4 * h]),
+                                     s[h], t[h], face[h], face4[h]);
+    }
     uint64_t n = 0;
     __m128i tex[2];
     const bool sameLinear = ch[0].filter == FilterMode::Linear &&

@@ -565,6 +565,18 @@ void cascadesAgainstReference(int& pairs) {  // pairs: how many shadeQuadPair ca
                     base[set] = {rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-3, 3), 1.0f};
                     dx[set] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f};
                     dy[set] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0f};
+                    if (rng.below(6) == 0) {
+                        // A cube direction on a face diagonal at pixel 0 (every pixel when
+                        // the scale is 0): the face-selection ties, X before Y before Z.
+                        glm::vec4& b = base[set];
+                        const float sign = rng.below(2) ? 1.0f : -1.0f;
+                        switch (rng.below(4)) {
+                            case 0: b.y = sign * b.x; break;
+                            case 1: b.z = sign * b.x; break;
+                            case 2: b.z = sign * b.y; break;
+                            default: b.y = b.z = sign * b.x; break;
+                        }
+                    }
                 }
                 for (int p = 0; p < 4; ++p)
                     q.texCoord[size_t(set)][size_t(p)] =
