@@ -75,6 +75,18 @@ const float kQuad[6][4] = {
 }  // namespace
 
 void setupGl() {
+    // The frame goes to a framebuffer object (an RGBA8 texture), as an application that
+    // renders off screen would: OSMesa's window buffer would add a copy of the whole image
+    // into the caller's memory at every glFinish, which is not rendering.
+    GLuint colour = 0, fbo = 0;
+    glGenTextures(1, &colour);
+    glBindTexture(GL_TEXTURE_2D, colour);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kWidth, kHeight, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("binary_search: the RGBA8 framebuffer object is not complete");
     glViewport(0, 0, kWidth, kHeight);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
@@ -169,6 +181,9 @@ MesaImage renderMesa(int threads) {
             renderer = r ? reinterpret_cast<const char*>(r) : "unknown";
             setupGl();
             drawFrameGl();
+            // The framebuffer object's rows from window row 0 up: the workload's order.
+            glPixelStorei(GL_PACK_ALIGNMENT, 4);
+            glReadPixels(0, 0, kWidth, kHeight, GL_RGBA, GL_UNSIGNED_BYTE, buffer.data());
             glFinish();
             if (GLenum e = glGetError(); e != GL_NO_ERROR)
                 throw Error("binary_search: GL error " + std::to_string(e) +
