@@ -893,12 +893,25 @@ template <Addr kS, Addr kT>
     // in the block's 4 columns (rows: b − bmin in [0, 1], 3 rows).
     const RawAxis8 ax = rawAxis8(s8, L.width);
     const RawAxis8 ay = rawAxis8(t8, L.height);
-    const __m256i one = _mm256_set1_epi32(1);
-    const __m256i col0 = minLanes8(ax.b), row0 = minLanes8(ay.b);
-    const __m256i dcol = _mm256_sub_epi32(ax.b, col0), drow = _mm256_sub_epi32(ay.b, row0);
-    const __m256i bad = _mm256_or_si256(_mm256_cmpgt_epi32(dcol, _mm256_set1_epi32(2)),
-                                        _mm256_cmpgt_epi32(drow, one));
-    if (!_mm256_testz_si256(bad, bad)) return false;
+    const __m256i one = _mm256_set1_epi32(1), two = _mm256_set1_epi32(2);
+    // The block's origin: pixel 0's floors (the smallest when the coordinates grow to the
+    // right and down, the common case: no reduction), else the smallest over the pixels.
+    // Any origin from which every pixel's offsets fit gives the same taps.
+    __m256i col0 = _mm256_broadcastd_epi32(_mm256_castsi256_si128(ax.b));
+    __m256i row0 = _mm256_broadcastd_epi32(_mm256_castsi256_si128(ay.b));
+    __m256i dcol = _mm256_sub_epi32(ax.b, col0), drow = _mm256_sub_epi32(ay.b, row0);
+    // Offsets in [0, 2] and [0, 1]: unsigned, a negative one is above the bound.
+    const __m256i fits = _mm256_and_si256(_mm256_cmpeq_epi32(_mm256_max_epu32(dcol, two), two),
+                                          _mm256_cmpeq_epi32(_mm256_max_epu32(drow, one), one));
+    if (_mm256_movemask_epi8(fits) != -1) {
+        col0 = minLanes8(ax.b);
+        row0 = minLanes8(ay.b);
+        dcol = _mm256_sub_epi32(ax.b, col0);
+        drow = _mm256_sub_epi32(ay.b, row0);
+        const __m256i bad = _mm256_or_si256(_mm256_cmpgt_epi32(dcol, two),
+                                            _mm256_cmpgt_epi32(drow, one));
+        if (!_mm256_testz_si256(bad, bad)) return false;
+    }
     const int32_t c = blockStart<kS>(_mm256_cvtsi256_si32(col0), L.width, 4);
     const int32_t r = blockStart<kT>(_mm256_cvtsi256_si32(row0), L.height, 3);
     if (c < 0 || r < 0) return false;

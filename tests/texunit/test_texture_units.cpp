@@ -646,6 +646,83 @@ TEST(TextureUnits, CascadesMatchReference) {
     }
 }
 
+// The pair path's 4×3 texel block (filter_quad.cpp, bilinearBlockPair) at its edges: a
+// magnified 2D texture under GL MODULATE (cascadePairBlock2D) and the same with mipmaps
+// (the general pair path), pairs of neighbouring quads on planes whose texel steps per
+// pixel run through ±1.1 in both axes and both signs — offsets from the block's origin of
+// 0 to 3 columns and 0 to 2 rows, so blocks that just fit and ones that just do not, the
+// top-left pixel the smallest or not — near wraps and clamped edges. Bytes and fetches of
+// both quads against the reference.
+TEST(TextureUnits, PairBlockPathMatchesReferenceAtItsEdges) {
+    const Profile& g8 = profile(ProfileId::GeForce8800);
+    auto mem = std::make_shared<TextureMemory>(g8);
+    auto texel = [](int l, int f, int x, int y, int, int) {
+        const uint32_t h = testing::hash32(uint32_t(((l * 5 + f) * 113 + x) * 733 + y));
+        return Rgba8{uint8_t(h), uint8_t(h >> 8), uint8_t(h >> 16), uint8_t(h >> 24)};
+    };
+    const std::shared_ptr<Texture> textures[] = {
+        makeRgba8(*mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 16, 8, 1, 1, 1}, texel),
+        makeRgba8(*mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 16, 16, 1, 1, 5}, texel)};
+    Rng rng(99);
+    int pairs = 0;
+    for (int stateI = 0; stateI < 200; ++stateI) {
+        TextureUnits tu;
+        const bool mips = rng.below(2) == 1;
+        tu.setTexture(0, textures[mips ? 1 : 0]);
+        SamplerState smp;
+        const AddressMode m = rng.below(2) ? AddressMode::ClampToEdge : AddressMode::Wrap;
+        smp.address = {m, m, m, m};
+        if (mips) smp.mipFilter = MipMode::Nearest;
+        tu.setSampler(0, smp);
+        StageState st;
+        st.colorOp = st.alphaOp = TextureOp::Modulate;
+        st.colorArg1 = st.alphaArg1 = arg::Texture;
+        st.colorArg2 = st.alphaArg2 = arg::Current;
+        tu.setStage(0, st);
+        if (!tu.shadesPairs()) continue;  // without AVX2
+        for (int k = 0; k < 30; ++k) {
+            // Texel steps per pixel in [−1.1, 1.1] on both axes, mostly axis-aligned.
+            const float w = 16.0f, h = float(tu.texture(0)->desc().height);
+            const float dudx = rng.uniform(-1.1f, 1.1f), dvdy = rng.uniform(-1.1f, 1.1f);
+            const float dudy = rng.below(2) ? 0.0f : rng.uniform(-0.3f, 0.3f);
+            const float dvdx = rng.below(2) ? 0.0f : rng.uniform(-0.3f, 0.3f);
+            const float u0 = rng.uniform(-20.0f, 20.0f), v0 = rng.uniform(-20.0f, 20.0f);
+            FragmentQuadPair pair;
+            std::array<Rgba8, 4> ref[2];
+            uint64_t refFetches = 0;
+            for (int hq = 0; hq < 2; ++hq) {
+                FragmentQuad q;
+                for (int p = 0; p < 4; ++p) {
+                    const float x = float(2 * hq + (p & 1)), y = float(p >> 1);
+                    q.texCoord[0][size_t(p)] = {(u0 + dudx * x + dudy * y) / w,
+                                                (v0 + dvdx * x + dvdy * y) / h, 0.0f, 1.0f};
+                    q.diffuse[size_t(p)] = {uint8_t(rng.next()), uint8_t(rng.next()),
+                                            uint8_t(rng.next()), uint8_t(rng.next())};
+                    for (int c = 0; c < 4; ++c)
+                        pair.texCoord[0][c][4 * hq + p] = q.texCoord[0][size_t(p)][c];
+                    pair.diffuse[size_t(4 * hq + p)] = q.diffuse[size_t(p)];
+                }
+                tu.resetCounters();
+                tu.shadeQuad(q, ref[hq], Path::Reference);
+                refFetches += tu.counters().texelFetches;
+            }
+            pair.coverage = {15, 15};
+            std::array<Rgba8, 8> both;
+            const uint64_t n = tu.shadeQuadPair(pair, both);
+            for (int hq = 0; hq < 2; ++hq) {
+                const std::array<Rgba8, 4> got{both[size_t(4 * hq)], both[size_t(4 * hq + 1)],
+                                               both[size_t(4 * hq + 2)], both[size_t(4 * hq + 3)]};
+                ASSERT_EQ(ref[hq], got) << "state " << stateI << " pair " << k << " quad " << hq;
+            }
+            ASSERT_EQ(refFetches, n) << "state " << stateI << " pair " << k;
+            ++pairs;
+        }
+    }
+    if (__builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2")) {
+        EXPECT_GT(pairs, 5000);
+    }
+}
+
 TEST(TextureUnits, TapQueryReproducesTheSampleAndItsWeightsSumToOne) {
     // The PEM set-up: stage 0 cube map MODULATE diffuse, stage 1 MODULATE by a 1D
     // Fresnel texture, trilinear, unnormalized cube coordinates per vertex.
