@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -945,6 +946,80 @@ TEST(ProgrammablePathsAgree, GroupFetchCountsAroundADiscardEqualTheScalarTwin) {
             EXPECT_EQ(c.fragmentsDiscarded, ref.fragmentsDiscarded);
             EXPECT_EQ(c.fragmentsWritten, ref.fragmentsWritten);
         }
+}
+
+// The RGBA8 conversion of whole quads (the AVX2 kernel converts two at a time) at the values
+// where rounding decides: each pixel writes its own texel of a 64×64 R32F texture in all
+// four channels, the texels a few ulps around (k + ½)/255 and 0.5/255, where x·255 + ½ sits
+// at or next to an integer, and NaN, ±∞, −0 and values outside [0, 1] — against the scalar
+// twin on the reference path.
+struct TexelColourScalarFP {
+    static constexpr int kVaryings = 1;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 1;
+    static constexpr bool kWritesDepth = false;
+    void operator()(FragmentContext& f) const {
+        const glm::vec4 c = f.fragCoord() * (1.0f / 64.0f);
+        f.output(0, glm::vec4(f.sampleLevel(0, c, 0.0f).x));
+    }
+};
+
+struct TexelColourGroupFP {
+    static constexpr int kVaryings = 1;
+    static constexpr uint32_t kTargets = 1;
+    static constexpr uint32_t kUnits = 1;
+    static constexpr bool kWritesDepth = false;
+    template <class Q>
+    void operator()(Q& q) const {
+        using F = typename Q::Float;
+        using V4 = typename Q::Vec4;
+        const V4 fc = q.fragCoord();
+        const F s = F(1.0f / 64.0f);
+        const F v = q.sampleLevel(0, V4(fc.x * s, fc.y * s, fc.z * s, fc.w * s), F(0.0f)).x;
+        q.output(0, V4(v, v, v, v));
+    }
+};
+
+TEST(ProgrammablePathsAgree, GroupRgba8ConversionAtRoundingEdgesEqualsTheScalarTwin) {
+    const int S = 64;
+    Fixture fx;
+    TextureDesc d;
+    d.format = TexelFormat::R32F;
+    d.width = d.height = S;
+    auto tex = fx.memory->create(d);
+    std::vector<uint8_t> bytes(size_t(S) * S * 4);
+    for (int i = 0; i < S * S; ++i) {
+        float v = i < 256 ? 0.5f / 255.0f : (float(i % 256) + 0.5f) / 255.0f;  // ties, then near ties
+        for (int step = 0, ulps = (i / 7) % 9 - 4; step < std::abs(ulps); ++step)
+            v = std::nextafter(v, ulps < 0 ? 0.0f : 2.0f);
+        if (i >= S * S - 64) {  // and what the clamp decides: NaN → 0, ±∞, −0, out of [0, 1]
+            const float special[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                                     -std::numeric_limits<float>::infinity(), -0.0f, -1.0f, 2.0f, 1.0000001f, 0.0f};
+            v = special[i % 8];
+        }
+        std::memcpy(&bytes[size_t(i) * 4], &v, 4);
+    }
+    fx.memory->upload(*tex, 0, 0, bytes);
+    tex::SamplerState point;
+    point.magFilter = point.minFilter = tex::FilterMode::Nearest;
+    auto verts = rect(S, S, 0, 0, S, S, 0.5f, {}, {}, {}, {});
+    auto render = [&](bool group, Path path, int threads) {
+        auto t0 = fx.target(S, S, TexelFormat::RGBA8);
+        ProgrammableDevice dev(g80(), DeviceOptions{path, threads});
+        ColorTarget ct{t0};
+        dev.setRenderTargets({&ct, 1});
+        dev.setTexture(0, tex, point);
+        if (group)
+            dev.draw(PassVP{}, TexelColourGroupFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
+        else
+            dev.draw(PassVP{}, TexelColourScalarFP{}, ProgramPrimitive::TriangleList, std::span<const ScreenVertex>(verts));
+        return hashTargets({t0}, S, S);
+    };
+    const std::string want = render(false, Path::Reference, 1);
+    for (Path path : {Path::Reference, Path::Fast})
+        for (int threads : {1, 2})
+            EXPECT_EQ(render(true, path, threads), want)
+                << (path == Path::Fast ? "fast" : "reference") << " path, " << threads << " threads";
 }
 
 }  // namespace

@@ -228,9 +228,9 @@ inline void storeQuadRgba8(const TargetView& t, int qx, int qy, const Vec4x4& o,
 }
 
 // After the program: per lane what shadeFragment does after the program (counters, depth
-// write), then the output merger.
-inline void finishQuadLanes(const ProgramDraw& d, int qx, int qy, const QuadContext& f,
-                            const float (&zStore)[4], ProgramCounters& c) {
+// write); the lanes that reach the output merger.
+inline uint32_t finishQuadCounters(const ProgramDraw& d, int qx, int qy, const QuadContext& f,
+                                   const float (&zStore)[4], ProgramCounters& c) {
     const uint32_t run = f.runLanes();
     const uint32_t discarded = f.discardedLanes() & run, alive = run & ~discarded;
     c.fragmentInvocations += uint32_t(std::popcount(run));
@@ -249,17 +249,58 @@ inline void finishQuadLanes(const ProgramDraw& d, int qx, int qy, const QuadCont
     const uint32_t most = uint32_t(_mm_cvtsi128_si32(vmax(max2, _mm_shuffle_epi32(max2, 0xB1))));
     c.textureFetches += fetches;
     if (most > c.maxFetchesPerFragment) c.maxFetchesPerFragment = most;
-    if (!alive) return;
+    if (!alive) return 0;
     if (d.depthData && d.depthWrite)
         for (int p = 0; p < 4; ++p)
             if ((alive >> p) & 1u)
                 d.depthData[size_t(qy + (p >> 1)) * size_t(d.depthWidth) + size_t(qx + (p & 1))] = zStore[p];
+    return alive;
+}
+
+// One RGBA8 target without blending or write mask: storeQuadRgba8 applies.
+inline bool plainRgba8Target(const ProgramDraw& d) {
     const TargetView& t0 = d.targets[0];
-    if (d.numTargets == 1 && t0.data8 && !t0.blend.enable && t0.blend.writeMask == kWriteRGBA) {
-        if (const uint32_t lanes = f.writtenLanes(0) & alive) storeQuadRgba8(t0, qx, qy, f.outQuad(0), lanes);
+    return d.numTargets == 1 && t0.data8 && !t0.blend.enable && t0.blend.writeMask == kWriteRGBA;
+}
+
+// The output merger for the lanes `alive` of a quad program's quad.
+inline void mergeQuadLanes(const ProgramDraw& d, int qx, int qy, const QuadContext& f, uint32_t alive) {
+    if (plainRgba8Target(d)) {
+        if (const uint32_t lanes = f.writtenLanes(0) & alive) storeQuadRgba8(d.targets[0], qx, qy, f.outQuad(0), lanes);
         return;
     }
     mergeQuad(d, qx, qy, f, alive);
+}
+
+inline void finishQuadLanes(const ProgramDraw& d, int qx, int qy, const QuadContext& f,
+                            const float (&zStore)[4], ProgramCounters& c) {
+    if (const uint32_t alive = finishQuadCounters(d, qx, qy, f, zStore, c)) mergeQuadLanes(d, qx, qy, f, alive);
+}
+
+// storeQuadRgba8 for two whole quads at once, eight lanes per 256-bit operation (the AVX2
+// kernel): the same MAXPS/MINPS operand order, x·255 + ½ and truncation lane by lane; each
+// quad's two rows stored as storeQuadRgba8 stores them. A target function taking its
+// vectors through references, like nearestFetchAvx2.
+[[gnu::target("avx2")]] inline void storeQuadPairRgba8Avx2(const TargetView& t, int qxa, int qya, const Vec4x4& a,
+                                                            int qxb, int qyb, const Vec4x4& b) {
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    const __m256 scale = _mm256_set1_ps(255.0f), half = _mm256_set1_ps(0.5f);
+    __m256i c[4];
+    const Float4* ca[4] = {&a.x, &a.y, &a.z, &a.w};
+    const Float4* cb[4] = {&b.x, &b.y, &b.z, &b.w};
+    for (int k = 0; k < 4; ++k) {
+        const __m256 v = _mm256_set_m128(cb[k]->v, ca[k]->v);
+        const __m256 x = _mm256_min_ps(_mm256_max_ps(v, zero), one);
+        c[k] = _mm256_slli_epi32(_mm256_cvttps_epi32(_mm256_add_ps(_mm256_mul_ps(x, scale), half)), 8 * k);
+    }
+    const __m256i px = _mm256_or_si256(_mm256_or_si256(c[0], c[1]), _mm256_or_si256(c[2], c[3]));
+    const __m128i pa = _mm256_castsi256_si128(px), pb = _mm256_extracti128_si256(px, 1);
+    Rgba8* ra = t.data8 + size_t(qya) * size_t(t.width) + size_t(qxa);
+    Rgba8* rb = t.data8 + size_t(qyb) * size_t(t.width) + size_t(qxb);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(static_cast<void*>(ra)), pa);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(static_cast<void*>(ra + t.width)), _mm_unpackhi_epi64(pa, pa));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(static_cast<void*>(rb)), pb);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(static_cast<void*>(rb + t.width)), _mm_unpackhi_epi64(pb, pb));
 }
 
 // The covered lanes `mask` of a quad through a quad program: the early depth test per
@@ -319,7 +360,28 @@ inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const ProgramTria
     g.beginGroup();
     fp(g);
     g.endGroup();
-    for (int i = 0; i < N; ++i) finishQuadLanes(d, qx[size_t(i)], qy[size_t(i)], g.quad(i), zStore[i], c);
+    if constexpr (std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>) {
+        // The counters and depth writes of every quad, then the output merger quad after
+        // quad, two whole quads of a plain RGBA8 target at once. The quads' pixels are
+        // distinct and the counters are sums and a maximum, so the same bytes and counts
+        // as finishing quad by quad.
+        uint32_t alive[N];
+        for (int i = 0; i < N; ++i)
+            alive[i] = finishQuadCounters(d, qx[size_t(i)], qy[size_t(i)], g.quad(i), zStore[i], c);
+        const bool plain = plainRgba8Target(d);
+        for (int i = 0; i < N; i += 2) {
+            const QuadContext &a = g.quad(i), &b = g.quad(i + 1);
+            if (plain && (a.writtenLanes(0) & alive[i]) == 15u && (b.writtenLanes(0) & alive[i + 1]) == 15u) {
+                storeQuadPairRgba8Avx2(d.targets[0], qx[size_t(i)], qy[size_t(i)], a.outQuad(0), qx[size_t(i + 1)],
+                                       qy[size_t(i + 1)], b.outQuad(0));
+                continue;
+            }
+            for (int j = i; j < i + 2; ++j)
+                if (alive[j]) mergeQuadLanes(d, qx[size_t(j)], qy[size_t(j)], g.quad(j), alive[j]);
+        }
+    } else {
+        for (int i = 0; i < N; ++i) finishQuadLanes(d, qx[size_t(i)], qy[size_t(i)], g.quad(i), zStore[i], c);
+    }
 }
 
 // The coverage of the quads along a row for the AVX2 kernel: the three edge functions at a
