@@ -722,15 +722,16 @@ RG_AVX2 uint64_t cascadeTwo(const CompiledStages& c, const FragmentQuad& q, __m1
 // prepareLevelsAvx2 (so the same integers), the same sums as gatherQuadAvx2.
 
 // ⌊c·n·256⌋ per lane, NaNs as 0: prepareLevelsAvx2's sub-texel steps.
+// Two steps of subTexel4 are folded: c·n cannot be a NaN once c is not one (n ≥ 1 is
+// finite, so ±∞·n is ±∞), so its second NaN test is the identity; and v lies in
+// [−2^30, 2^30] and is never a NaN, where ⌊v⌋ rounded in float (vroundps toward −∞) is an
+// integer the conversion takes exactly — the value the truncation and its correction give.
 [[gnu::always_inline]] RG_AVX2 inline __m256i subTexel8(__m256 c, int32_t n) {
     c = _mm256_and_ps(c, _mm256_cmp_ps(c, c, _CMP_ORD_Q));
     __m256 u = _mm256_mul_ps(c, _mm256_set1_ps(float(n)));
-    u = _mm256_and_ps(u, _mm256_cmp_ps(u, u, _CMP_ORD_Q));
     u = _mm256_min_ps(_mm256_max_ps(u, _mm256_set1_ps(-4194304.0f)), _mm256_set1_ps(4194304.0f));
     const __m256 v = _mm256_mul_ps(u, _mm256_set1_ps(float(1 << kSubTexelBits)));
-    const __m256i sub = _mm256_cvttps_epi32(v);
-    return _mm256_add_epi32(
-        sub, _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(sub), v, _CMP_GT_OQ)));
+    return _mm256_cvttps_epi32(_mm256_round_ps(v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
 }
 struct Axis8 {
     __m256i i0, i1, w;  // tap indices and packed weight pairs, eight pixels
