@@ -721,6 +721,22 @@ RG_AVX2 uint64_t cascadeTwo(const CompiledStages& c, const FragmentQuad& q, __m1
 // lanes 4h..4h+3) and stay in registers: the same float operations lane for lane as
 // prepareLevelsAvx2 (so the same integers), the same sums as gatherQuadAvx2.
 
+// A constant in every 32-bit lane as one broadcast from memory. GCC 12 builds each
+// _mm256_set1 constant as a move, a vmovd and a vpbroadcastd at every use (three µops; the
+// pair kernels use a dozen per pair); the asm keeps it a load, which GCC may still hoist
+// or share. Only where it was measured to matter (the 2D block path).
+template <uint32_t kBits>
+[[gnu::always_inline]] RG_AVX2 inline __m256i splat32() {
+    static const uint32_t value = kBits;
+    __m256i r;
+    __asm__("vpbroadcastd %1, %0" : "=x"(r) : "m"(value));
+    return r;
+}
+template <uint32_t kBits>
+[[gnu::always_inline]] RG_AVX2 inline __m256 splatF() {
+    return _mm256_castsi256_ps(splat32<kBits>());
+}
+
 // ⌊c·n·256⌋ per lane, NaNs as 0: prepareLevelsAvx2's sub-texel steps.
 // Two steps of subTexel4 are folded: c·n cannot be a NaN once c is not one (n ≥ 1 is
 // finite, so ±∞·n is ±∞), so its second NaN test is the identity; and v lies in
@@ -729,8 +745,10 @@ RG_AVX2 uint64_t cascadeTwo(const CompiledStages& c, const FragmentQuad& q, __m1
 [[gnu::always_inline]] RG_AVX2 inline __m256i subTexel8(__m256 c, int32_t n) {
     c = _mm256_and_ps(c, _mm256_cmp_ps(c, c, _CMP_ORD_Q));
     __m256 u = _mm256_mul_ps(c, _mm256_set1_ps(float(n)));
-    u = _mm256_min_ps(_mm256_max_ps(u, _mm256_set1_ps(-4194304.0f)), _mm256_set1_ps(4194304.0f));
-    const __m256 v = _mm256_mul_ps(u, _mm256_set1_ps(float(1 << kSubTexelBits)));
+    // ∓2^22 and 2^kSubTexelBits = 256 as float bits.
+    static_assert(kSubTexelBits == 8);
+    u = _mm256_min_ps(_mm256_max_ps(u, splatF<0xCA800000u>()), splatF<0x4A800000u>());
+    const __m256 v = _mm256_mul_ps(u, splatF<0x43800000u>());
     return _mm256_cvttps_epi32(_mm256_round_ps(v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
 }
 struct Axis8 {
@@ -845,7 +863,7 @@ template <Target kTarget, Addr kS, Addr kT>
 // (k | k + 4) in rows[k]; wx[k] their weight pairs.
 [[gnu::always_inline]] RG_AVX2 inline void blockRowSums(__m256i a, __m256i b, const __m256i wx[4],
                                                         __m256i rows[4]) {
-    const __m256i zero = _mm256_setzero_si256(), k128 = _mm256_set1_epi16(128);
+    const __m256i zero = _mm256_setzero_si256(), k128 = splat32<0x00800080u>();  // 128 per int16
     const __m256i x = _mm256_unpacklo_epi8(a, b), y = _mm256_unpackhi_epi8(a, b);
     const __m256i px[4] = {_mm256_unpacklo_epi8(x, zero), _mm256_unpackhi_epi8(x, zero),
                            _mm256_unpacklo_epi8(y, zero), _mm256_unpackhi_epi8(y, zero)};
@@ -854,7 +872,7 @@ template <Target kTarget, Addr kS, Addr kT>
 }
 // quad::mulDiv255Half on 16 int16 lanes.
 [[gnu::always_inline]] RG_AVX2 inline __m256i mulDiv255x16(__m256i a, __m256i b) {
-    const __m256i t = _mm256_add_epi16(_mm256_mullo_epi16(a, b), _mm256_set1_epi16(128));
+    const __m256i t = _mm256_add_epi16(_mm256_mullo_epi16(a, b), splat32<0x00800080u>());
     return _mm256_srli_epi16(_mm256_add_epi16(t, _mm256_srli_epi16(t, 8)), 8);
 }
 // The bilinear results of the eight pixels (quad h in lanes 4h..4h+3) on level L as int16
@@ -880,11 +898,11 @@ struct RawAxis8 {
     __m256i b, w;
 };
 [[gnu::always_inline]] RG_AVX2 inline RawAxis8 rawAxis8(__m256 c, int32_t n) {
-    const __m256i sub = _mm256_sub_epi32(subTexel8(c, n), _mm256_set1_epi32(1 << (kSubTexelBits - 1)));
-    const __m256i frac = _mm256_and_si256(sub, _mm256_set1_epi32((1 << kSubTexelBits) - 1));
+    const __m256i sub = _mm256_sub_epi32(subTexel8(c, n), splat32<1u << (kSubTexelBits - 1)>());
+    const __m256i frac = _mm256_and_si256(sub, splat32<(1u << kSubTexelBits) - 1>());
     return {_mm256_srai_epi32(sub, kSubTexelBits),
             _mm256_or_si256(_mm256_slli_epi32(frac, 16),
-                            _mm256_sub_epi32(_mm256_set1_epi32(1 << kSubTexelBits), frac))};
+                            _mm256_sub_epi32(splat32<1u << kSubTexelBits>(), frac))};
 }
 template <Addr kS, Addr kT>
 [[gnu::always_inline]] RG_AVX2 inline bool bilinearBlockPair(const LevelView& L, __m256 s8, __m256 t8,
@@ -894,7 +912,7 @@ template <Addr kS, Addr kT>
     // in the block's 4 columns (rows: b − bmin in [0, 1], 3 rows).
     const RawAxis8 ax = rawAxis8(s8, L.width);
     const RawAxis8 ay = rawAxis8(t8, L.height);
-    const __m256i one = _mm256_set1_epi32(1), two = _mm256_set1_epi32(2);
+    const __m256i one = splat32<1>(), two = splat32<2>();
     // The block's origin: pixel 0's floors (the smallest when the coordinates grow to the
     // right and down, the common case: no reduction), else the smallest over the pixels.
     // Any origin from which every pixel's offsets fit gives the same taps.
@@ -939,7 +957,7 @@ template <Addr kS, Addr kT>
     __m256i r0[4], r1[4], f[4];
     blockRowSums(t00, t01, wx, r0);
     blockRowSums(t10, t11, wx, r1);
-    const __m256i round = _mm256_set1_epi32((1 << 23) + (1 << 15));
+    const __m256i round = splat32<(1u << 23) + (1u << 15)>();
     #pragma GCC unroll 4
     for (int k = 0; k < 4; ++k) {
         const __m256i sum =
