@@ -1,6 +1,8 @@
 #include "mesa_peer.h"
 
+#define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
+#include <GL/glext.h>
 #include <GL/osmesa.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -22,7 +24,27 @@ namespace rg::bench {
 
 namespace {
 
-
+// The frames go to a framebuffer object (an RGBA8 colour texture and a 24-bit depth
+// renderbuffer, the formats of our side), as an application rendering off screen would
+// draw: OSMesa's window buffer would add a copy of the whole image into the caller's
+// memory at every glFinish, which is not rendering and would be charged to llvmpipe.
+// Returns false when the context cannot make a complete one.
+bool bindOffscreenTarget(int width, int height) {
+    GLuint colour = 0, depth = 0, fbo = 0;
+    glGenTextures(1, &colour);
+    glBindTexture(GL_TEXTURE_2D, colour);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glGenRenderbuffers(1, &depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE &&
+           glGetError() == GL_NO_ERROR;
+}
 
 // The child: never returns.
 [[noreturn]] void serve(int in, int out, int width, int height, int threads,
@@ -37,9 +59,13 @@ namespace {
     if (ctx && OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, width, height)) {
         const GLubyte* r = glGetString(GL_RENDERER);
         renderer = r ? reinterpret_cast<const char*>(r) : "unknown";
-        setup();
-        frame();  // warm-up: llvmpipe compiles its shaders on first use
-        glFinish();
+        if (bindOffscreenTarget(width, height)) {
+            setup();
+            frame();  // warm-up: llvmpipe compiles its shaders on first use
+            glFinish();
+        } else {
+            renderer.clear();  // the parent reports it
+        }
     }
     uint32_t len = uint32_t(renderer.size());
     io::writeAll(out, &len, sizeof len);
@@ -79,7 +105,7 @@ MesaPeer::MesaPeer(int width, int height, int threads, std::function<void()> set
     if (!io::readAll(toChild_, &len, sizeof len) || len == 0 || len > 4096) {
         ::close(toChild_);
         ::waitpid(child_, nullptr, 0);
-        throw std::runtime_error("MesaPeer: the child could not create an OSMesa context");
+        throw std::runtime_error("MesaPeer: the child could not create an OSMesa context with an RGBA8 + depth24 framebuffer object");
     }
     renderer_.resize(len);
     io::readAll(toChild_, renderer_.data(), len);
