@@ -16,6 +16,7 @@ namespace rg::bench {
 struct Options {
     std::string filter;    // regular expression over benchmark names (empty: all)
     std::string jsonPath;  // Google Benchmark's JSON output plus our "ratios" (empty: none)
+    std::string plotPath;  // the ratio table as an SVG bar chart with each goal (empty: none)
     double minTime = 0.0;  // seconds per benchmark (0: Google Benchmark's default)
     int repetitions = 1;   // runs of each benchmark, interleaved at random; ratios of medians
     int threads = 0;       // "all threads" for the benchmarks (0: all cores)

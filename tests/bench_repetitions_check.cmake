@@ -1,12 +1,13 @@
 # `retroglass bench --repetitions N` (bench/harness.cpp): each benchmark runs N times, and
 # the ratio is taken of the medians. Checks on the JSON output that every paired benchmark
 # has N samples, that the throughput written is their median, and that the ratio is
-# ours ÷ peer of those medians. The speed itself is not checked (a short --min-time).
+# ours ÷ peer of those medians, and that --plot draws a bar per ratio. The speed itself is
+# not checked (a short --min-time).
 #   cmake -DRETROGLASS=<exe> -DOUT=<json> -P bench_repetitions_check.cmake
 set(reps 3)
 execute_process(
     COMMAND ${RETROGLASS} --threads 2 bench --filter "^fill_flat/" --repetitions ${reps}
-            --min-time 0.01 --json ${OUT}
+            --min-time 0.01 --json ${OUT} --plot ${OUT}.svg
     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
     message(FATAL_ERROR "bench exited with ${rc}:\n${out}\n${err}")
@@ -69,4 +70,24 @@ foreach(r RANGE ${lastratio})
         endif()
     endforeach()
 endforeach()
-message(STATUS "ok: ${nratios} ratios of medians over ${reps} repetitions")
+# --plot: one bar per ratio, in the table's order, labelled with its benchmark and peer,
+# each with the goal fill_flat is steered by (1.0).
+file(READ ${OUT}.svg svg)
+if(NOT svg MATCHES "^<svg " OR NOT svg MATCHES "</svg>\n$")
+    message(FATAL_ERROR "--plot did not write a whole SVG document:\n${svg}")
+endif()
+string(REGEX MATCHALL "<rect class=\"ratio\" data-ratio=\"[0-9.]+\" data-goal=\"1.0\"" bars "${svg}")
+list(LENGTH bars nbars)
+if(NOT nbars EQUAL nratios)
+    message(FATAL_ERROR "--plot drew ${nbars} bars with goal 1.0 for ${nratios} ratios:\n${svg}")
+endif()
+set(rest "${svg}")
+foreach(r RANGE ${lastratio})
+    string(JSON name GET "${json}" ratios ${r} benchmark)
+    string(FIND "${rest}" ">${name} vs llvmpipe</text>" at)
+    if(at EQUAL -1)
+        message(FATAL_ERROR "--plot: no label '${name} vs llvmpipe' in table order:\n${svg}")
+    endif()
+    string(SUBSTRING "${rest}" ${at} -1 rest)
+endforeach()
+message(STATUS "ok: ${nratios} ratios of medians over ${reps} repetitions, and their plot")

@@ -205,6 +205,8 @@ int main(int argc, char** argv) {
         "bench", "benchmarks against the peers measured in the same run, with ratios");
     bench->add_option("--filter", benchOptions.filter, "regular expression over benchmark names");
     bench->add_option("--json", benchOptions.jsonPath, "write throughputs and ratios as JSON");
+    bench->add_option("--plot", benchOptions.plotPath,
+                      "write the ratios as an SVG bar chart, each with its goal");
     bench->add_option("--min-time", benchOptions.minTime, "seconds per benchmark");
     bench->add_option("--repetitions", benchOptions.repetitions,
                       "runs of each benchmark, ours and the peers interleaved at random; "
