@@ -172,22 +172,32 @@ struct SetupTriangle {
 };
 static_assert(sizeof(SetupTriangle) == 256, "quadCoverage sits in padding");
 
-// SetupTriangle::quadCoverage from the edges and the box: when the box lies in one
-// even-aligned 2×2 quad (qx, qy), bit i for pixel (qx + (i & 1), qy + (i >> 1)) inside the
-// box with all three E ≥ 0 at its centre; else 0.
-inline uint32_t quadCoverageOf(const SetupTriangle& t, int s) {
-    if (t.maxX > (t.minX | 1) || t.maxY > (t.minY | 1)) return 0;
-    const int qx = t.minX & ~1, qy = t.minY & ~1;
+// The pixels of the even-aligned 2×2 quad (qx, qy) inside all three edges of t: bit i for
+// pixel (qx + (i & 1), qy + (i >> 1)) when all three E ≥ 0 at its centre, i.e. when the OR
+// of the three has its sign bit clear.
+inline unsigned quadEdgeCoverage(const SetupTriangle& t, int qx, int qy, int s) {
     const int64_t half = int64_t{1} << (s - 1);
     const int64_t X = (int64_t(qx) << s) + half, Y = (int64_t(qy) << s) + half;
-    uint32_t coverage = 0xF;
+    int64_t any[4] = {0, 0, 0, 0};
     for (int e = 0; e < 3; ++e) {
         const int64_t e0 = t.C[e] + t.A[e] * X + t.B[e] * Y;
         const int64_t sx = t.A[e] << s, sy = t.B[e] << s;
-        const int64_t E[4] = {e0, e0 + sx, e0 + sy, e0 + sx + sy};
-        for (int i = 0; i < 4; ++i)
-            if (E[i] < 0) coverage &= ~(1u << i);
+        any[0] |= e0;
+        any[1] |= e0 + sx;
+        any[2] |= e0 + sy;
+        any[3] |= (e0 + sx) + sy;
     }
+    return unsigned(any[0] >= 0) | unsigned(any[1] >= 0) << 1 | unsigned(any[2] >= 0) << 2 |
+           unsigned(any[3] >= 0) << 3;
+}
+
+// SetupTriangle::quadCoverage from the edges and the box: when the box lies in one
+// even-aligned 2×2 quad (qx, qy), its quadEdgeCoverage limited to the pixels inside the
+// box; else 0.
+inline uint32_t quadCoverageOf(const SetupTriangle& t, int s) {
+    if (t.maxX > (t.minX | 1) || t.maxY > (t.minY | 1)) return 0;
+    const int qx = t.minX & ~1, qy = t.minY & ~1;
+    uint32_t coverage = quadEdgeCoverage(t, qx, qy, s);
     if (qx < t.minX) coverage &= 0xA;  // column qx outside the box
     if (qx + 1 > t.maxX) coverage &= 0x5;
     if (qy < t.minY) coverage &= 0xC;

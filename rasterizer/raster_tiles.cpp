@@ -142,22 +142,7 @@ template <bool kDepth, int kBlendMode>
         // even-aligned): its coverage came with the setup.
         coverage = t.quadCoverage;
     } else {  // a larger box that a tile edge cut down to one quad
-        const int s = dc.subpixelBits;
-        const int64_t half = int64_t{1} << (s - 1);
-        const int64_t X = (int64_t(qx) << s) + half, Y = (int64_t(qy) << s) + half;
-        // Pixel i at (qx + (i & 1), qy + (i >> 1)); inside ⇔ all three E ≥ 0 ⇔ the OR of
-        // the three has its sign bit clear.
-        int64_t any[4] = {0, 0, 0, 0};
-        for (int e = 0; e < 3; ++e) {
-            const int64_t e0 = t.C[e] + t.A[e] * X + t.B[e] * Y;
-            const int64_t sx = t.A[e] << s, sy = t.B[e] << s;
-            any[0] |= e0;
-            any[1] |= e0 + sx;
-            any[2] |= e0 + sy;
-            any[3] |= (e0 + sx) + sy;
-        }
-        coverage = unsigned(any[0] >= 0) | unsigned(any[1] >= 0) << 1 |
-                   unsigned(any[2] >= 0) << 2 | unsigned(any[3] >= 0) << 3;
+        coverage = quadEdgeCoverage(t, qx, qy, dc.subpixelBits);
         coverage &= (qx >= box.x0 ? 0x5u : 0u) | (qx + 1 <= box.x1 ? 0xAu : 0u);
         coverage &= (qy >= box.y0 ? 0x3u : 0u) | (qy + 1 <= box.y1 ? 0xCu : 0u);
     }

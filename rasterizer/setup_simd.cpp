@@ -463,17 +463,29 @@ void setupRangeSse2(const DrawContext& dc, Primitive primitive, uint32_t begin,
                           out, texPool, gc);
 }
 
+// Indexed triangle lists (most meshes) take the instantiation whose primitive assembly
+// reads consecutive indices; strips, fans and unindexed draws the general one.
+template <bool kAvx2>
+RG_LANES void setupCompactBody(const DrawContext& dc, Primitive primitive, uint32_t begin,
+                               uint32_t end, std::span<const uint32_t> indices,
+                               std::span<const Vertex> vertices, const FastVertex* processed,
+                               const Transforms& tr, std::vector<SetupTriangle>& out,
+                               std::vector<Plane>& texPool, GeometryCounters& gc) {
+    if (primitive == Primitive::TriangleList && !indices.empty())
+        setupRangeBody<kAvx2, FastVertex, true>(dc, primitive, begin, end, indices, vertices,
+                                                processed, &tr, out, texPool, gc);
+    else
+        setupRangeBody<kAvx2>(dc, primitive, begin, end, indices, vertices, processed, &tr,
+                              out, texPool, gc);
+}
+
 __attribute__((target("avx2"))) void setupCompactAvx2(
     const DrawContext& dc, Primitive primitive, uint32_t begin, uint32_t end,
     std::span<const uint32_t> indices, std::span<const Vertex> vertices,
     const FastVertex* processed, const Transforms& tr, std::vector<SetupTriangle>& out,
     std::vector<Plane>& texPool, GeometryCounters& gc) {
-    if (primitive == Primitive::TriangleList && !indices.empty())
-        setupRangeBody<true, FastVertex, true>(dc, primitive, begin, end, indices, vertices,
-                                               processed, &tr, out, texPool, gc);
-    else
-        setupRangeBody<true>(dc, primitive, begin, end, indices, vertices, processed, &tr,
-                             out, texPool, gc);
+    setupCompactBody<true>(dc, primitive, begin, end, indices, vertices, processed, tr, out,
+                           texPool, gc);
 }
 
 void setupCompactSse2(const DrawContext& dc, Primitive primitive, uint32_t begin,
@@ -481,12 +493,8 @@ void setupCompactSse2(const DrawContext& dc, Primitive primitive, uint32_t begin
                       std::span<const Vertex> vertices, const FastVertex* processed,
                       const Transforms& tr, std::vector<SetupTriangle>& out,
                       std::vector<Plane>& texPool, GeometryCounters& gc) {
-    if (primitive == Primitive::TriangleList && !indices.empty())
-        setupRangeBody<false, FastVertex, true>(dc, primitive, begin, end, indices, vertices,
-                                                processed, &tr, out, texPool, gc);
-    else
-        setupRangeBody<false>(dc, primitive, begin, end, indices, vertices, processed, &tr,
-                              out, texPool, gc);
+    setupCompactBody<false>(dc, primitive, begin, end, indices, vertices, processed, tr, out,
+                            texPool, gc);
 }
 
 }  // namespace

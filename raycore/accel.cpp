@@ -421,7 +421,7 @@ void Accel::surfacesSse2(const Ray* rays, const Hit* hits, SurfacePoint* out, si
             const bool valid = l < m && hits[base + l].valid();
             h[l] = valid ? &hits[base + l] : &noHit;
             r[l] = valid ? &rays[base + l] : &noRay;
-            ts[l] = valid ? &records_[geometries_[h[l]->object].base + h[l]->triangle] : &noShading;
+            ts[l] = valid ? &record(h[l]->object, h[l]->triangle) : &noShading;
             g[l] = valid ? &ts[l]->faceNormal.x : noNormal;
         }
         __m128 hit[4], ray0[4], ray1[4], ng[4], tri[4][4];

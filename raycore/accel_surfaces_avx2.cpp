@@ -188,7 +188,7 @@ __attribute__((target("avx2"))) void Accel::surfacesAvx2(const Ray* rays, const 
             valid[l] = l < m && hits[base + l].valid();
             const Hit& hit = valid[l] ? hits[base + l] : noHit;
             const TriangleRecord* rec =
-                valid[l] ? &records_[geometries_[hit.object].base + hit.triangle] : &noShading;
+                valid[l] ? &record(hit.object, hit.triangle) : &noShading;
             h[l] = &hit.t;
             r[l] = valid[l] ? &rays[base + l].origin.x : &noRay.origin.x;
             ts[l] = &rec->normal[0].x;
@@ -203,7 +203,7 @@ __attribute__((target("avx2"))) void Accel::surfacesAvx2(const Ray* rays, const 
                 }
                 const Hit& hit = hits[base + l];
                 s.object = hit.object;
-                s.part = records_[geometries_[hit.object].base + hit.triangle].part;
+                s.part = record(hit.object, hit.triangle).part;
                 s.triangle = hit.triangle;
                 s.material = geometries_[hit.object].material;
             }

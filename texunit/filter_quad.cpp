@@ -754,15 +754,25 @@ template <uint32_t kBits>
 struct Axis8 {
     __m256i i0, i1, w;  // tap indices and packed weight pairs, eight pixels
 };
+// The floors and packed weight pairs (frac << 16 | 256 − frac) of eight coordinates on an
+// axis of n texels, before addressing: prepareLevelsAvx2's steps.
+struct RawAxis8 {
+    __m256i b, w;
+};
+[[gnu::always_inline]] RG_AVX2 inline RawAxis8 rawAxis8(__m256 c, int32_t n) {
+    const __m256i sub = _mm256_sub_epi32(subTexel8(c, n), splat32<1u << (kSubTexelBits - 1)>());
+    const __m256i frac = _mm256_and_si256(sub, splat32<(1u << kSubTexelBits) - 1>());
+    return {_mm256_srai_epi32(sub, kSubTexelBits),
+            _mm256_or_si256(_mm256_slli_epi32(frac, 16),
+                            _mm256_sub_epi32(splat32<1u << kSubTexelBits>(), frac))};
+}
+// rawAxis8 with both taps addressed.
 template <Addr kA>
 [[gnu::always_inline]] RG_AVX2 inline Axis8 linearAxis8(__m256 c, int32_t n) {
-    const __m256i sub = _mm256_sub_epi32(subTexel8(c, n), _mm256_set1_epi32(1 << (kSubTexelBits - 1)));
-    const __m256i b = _mm256_srai_epi32(sub, kSubTexelBits);
-    const __m256i frac = _mm256_and_si256(sub, _mm256_set1_epi32((1 << kSubTexelBits) - 1));
+    const RawAxis8 raw = rawAxis8(c, n);
     const __m256i top = _mm256_set1_epi32(n - 1);
-    return {address8<kA>(b, top), address8<kA>(_mm256_add_epi32(b, _mm256_set1_epi32(1)), top),
-            _mm256_or_si256(_mm256_slli_epi32(frac, 16),
-                            _mm256_sub_epi32(_mm256_set1_epi32(1 << kSubTexelBits), frac))};
+    return {address8<kA>(raw.b, top), address8<kA>(_mm256_add_epi32(raw.b, splat32<1>()), top),
+            raw.w};
 }
 // spreadPixels of quad h's lanes of an 8-lane register.
 [[gnu::always_inline]] RG_AVX2 inline void spreadQuad(__m256i v, int h, __m256i& even, __m256i& odd) {
@@ -875,11 +885,6 @@ template <Target kTarget, Addr kS, Addr kT>
     const __m256i t = _mm256_add_epi16(_mm256_mullo_epi16(a, b), splat32<0x00800080u>());
     return _mm256_srli_epi16(_mm256_add_epi16(t, _mm256_srli_epi16(t, 8)), 8);
 }
-// The bilinear results of the eight pixels (quad h in lanes 4h..4h+3) on level L as int16
-// channel values, w01 = (quad 0 pixels 0, 1 | quad 1 pixels 0, 1) and w23 the same of
-// pixels 2, 3 — or false when the taps do not fit the block (nothing written).
-// The arithmetic is bilinear8's (rowPairs8 and its column pass) with the pixels arranged
-// by position instead of even/odd: the same biased pmaddwd sums, the same rounding.
 // The block's first texel on an axis of extent n whose unaddressed first taps start at b
 // (the smallest over the pixels), when the block's `span` texels b..b + span − 1 address
 // to consecutive texels (no wrap or clamp inside it): then every pixel's taps are its
@@ -893,17 +898,18 @@ template <Addr kA>
         return a <= n - span ? a : -1;  // no carry into bit log2(n) up to b + span − 1
     }
 }
-// The floor and packed weight pairs of linearAxis8 without the addressing.
-struct RawAxis8 {
-    __m256i b, w;
-};
-[[gnu::always_inline]] RG_AVX2 inline RawAxis8 rawAxis8(__m256 c, int32_t n) {
-    const __m256i sub = _mm256_sub_epi32(subTexel8(c, n), splat32<1u << (kSubTexelBits - 1)>());
-    const __m256i frac = _mm256_and_si256(sub, splat32<(1u << kSubTexelBits) - 1>());
-    return {_mm256_srai_epi32(sub, kSubTexelBits),
-            _mm256_or_si256(_mm256_slli_epi32(frac, 16),
-                            _mm256_sub_epi32(splat32<1u << kSubTexelBits>(), frac))};
+// GL MODULATE (mulDiv255 per channel) of both quads' bilinearBlockPair results w01, w23 by
+// CURRENT's bytes `cur` (quad 0 | quad 1), packed to bytes: quad 0 | quad 1.
+[[gnu::always_inline]] RG_AVX2 inline __m256i modulateBlockPair(__m256i w01, __m256i w23, __m256i cur) {
+    const __m256i z = _mm256_setzero_si256();
+    return _mm256_packus_epi16(mulDiv255x16(w01, _mm256_unpacklo_epi8(cur, z)),
+                               mulDiv255x16(w23, _mm256_unpackhi_epi8(cur, z)));
 }
+// The bilinear results of the eight pixels (quad h in lanes 4h..4h+3) on level L as int16
+// channel values, w01 = (quad 0 pixels 0, 1 | quad 1 pixels 0, 1) and w23 the same of
+// pixels 2, 3 — or false when the taps do not fit the block (nothing written).
+// The arithmetic is bilinear8's (rowPairs8 and its column pass) with the pixels arranged
+// by position instead of even/odd: the same biased pmaddwd sums, the same rounding.
 template <Addr kS, Addr kT>
 [[gnu::always_inline]] RG_AVX2 inline bool bilinearBlockPair(const LevelView& L, __m256 s8, __m256 t8,
                                                              __m256i& w01, __m256i& w23) {
@@ -1053,6 +1059,7 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
     const bool sameLinear = ch[0].filter == FilterMode::Linear &&
                             ch[1].filter == FilterMode::Linear && ch[0].level0 == ch[1].level0 &&
                             ch[0].level1 == ch[1].level1 && ch[0].blend == ch[1].blend;
+    bool fromBlock = false;  // tex[] already holds both quads' texels from the 4×3 block
     if constexpr (kT == Target::TwoD) {
         __m256i w01, w23;
         if (sameLinear && !ch[0].blend &&
@@ -1062,11 +1069,8 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
             if constexpr (kTexCur) {
                 // mulDiv255(texel, CURRENT) as below, CURRENT's bytes widened to the
                 // same (pixels 0, 1 | 2, 3 per quad) arrangement; the pack gives quad 0 | 1.
-                const __m256i cur = _mm256_set_m128i(r[1][arg::Current], r[0][arg::Current]);
-                const __m256i z = _mm256_setzero_si256();
-                const __m256i both =
-                    _mm256_packus_epi16(mulDiv255x16(w01, _mm256_unpacklo_epi8(cur, z)),
-                                        mulDiv255x16(w23, _mm256_unpackhi_epi8(cur, z)));
+                const __m256i both = modulateBlockPair(
+                    w01, w23, _mm256_set_m128i(r[1][arg::Current], r[0][arg::Current]));
                 r[0][arg::Current] = _mm256_castsi256_si128(both);
                 r[1][arg::Current] = _mm256_extracti128_si256(both, 1);
                 return n;
@@ -1074,10 +1078,11 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
             const __m256i both = _mm256_packus_epi16(w01, w23);
             tex[0] = _mm256_castsi256_si128(both);
             tex[1] = _mm256_extracti128_si256(both, 1);
-            goto evaluate;
+            fromBlock = true;
         }
     }
-    if (sameLinear) {
+    if (fromBlock) {
+    } else if (sameLinear) {
         Lanes8 lanes[2];
         n = gatherPair<kT, kS, kU>(qs, ch, s, t, face4, lanes);
         if constexpr (kTexCur) {
@@ -1109,7 +1114,6 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
             tex[h] = gatherQuadAvx2<kT != Target::OneD>(qs, fp);
         }
     }
-evaluate:
     #pragma GCC unroll 2
     for (int h = 0; h < 2; ++h) {
         r[h][arg::Texture] = tex[h];
@@ -1237,11 +1241,8 @@ RG_AVX2 uint64_t cascadePairBlock2D(const CompiledStages& c, const FragmentQuadP
         __m256i w01, w23;
         if (bilinearBlockPair<kS, kU>(qs.level[size_t(qs.choice.level0)], x, y, w01, w23)) {
             // GL MODULATE of both quads as in cascadeStageOfBoth; CURRENT is DIFFUSE.
-            const __m256i cur = _mm256_load_si256(reinterpret_cast<const __m256i*>(p.diffuse.data()));
-            const __m256i z = _mm256_setzero_si256();
-            const __m256i both =
-                _mm256_packus_epi16(mulDiv255x16(w01, _mm256_unpacklo_epi8(cur, z)),
-                                    mulDiv255x16(w23, _mm256_unpackhi_epi8(cur, z)));
+            const __m256i both = modulateBlockPair(
+                w01, w23, _mm256_load_si256(reinterpret_cast<const __m256i*>(p.diffuse.data())));
             _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), both);
             return 2 * 4 * 4;
         }

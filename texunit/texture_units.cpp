@@ -379,8 +379,7 @@ std::array<Rgba8, 4> TextureUnits::sampleStage(int stage, const FragmentQuad& qu
 bool TextureUnits::shadesPairs() const { return compiled_->cascadePair != nullptr; }
 
 uint64_t TextureUnits::shadeQuadPair(const FragmentQuadPair& pair, std::array<Rgba8, 8>& out) const {
-    const detail::CompiledStages& compiled = *compiled_;
-    return compiled.cascadePair(compiled, pair, detail::quad::splat(tfactor_), out.data());
+    return pairShader()(pair, out);
 }
 TextureUnits::PairShader TextureUnits::pairShader() const {
     return {compiled_->cascadePair, compiled_.get(), detail::quad::splat(tfactor_)};

@@ -116,6 +116,10 @@ class Accel {
         uint32_t base = 0;  // its first triangle's index in records_
         const Material* material = nullptr;
     };
+    // The record of triangle `triangle` of object `object`.
+    const TriangleRecord& record(uint32_t object, uint32_t triangle) const {
+        return records_[geometries_[object].base + triangle];
+    }
     // surface()'s arithmetic for a hit on (object, triangle), shared by surface() and
     // intersectSurface() so that both do the same operations in the same order.
     SurfacePoint resolve(const glm::vec3& origin, const glm::vec3& dir, float t, float u, float v,
