@@ -318,13 +318,43 @@ void setupTrianglesFast(const DrawContext& dc, Primitive primitive, uint32_t beg
 // from processVertexInto(worldViewProj, worldView, normalMatrix) and takes clipAndSetup.
 // prefetch = false when the caller has just written the records the triangles use (they
 // are in cache; the prefetches' index loads and address arithmetic would be pure cost).
+// band: only the triangles whose pixel box meets the rows of `dc`'s clip rect, counted
+// as RowBand says (no prefetch).
+struct RowBand;
 void setupTrianglesCompact(const DrawContext& dc, Primitive primitive, uint32_t begin,
                            uint32_t end, std::span<const uint32_t> indices,
                            std::span<const Vertex> vertices, const FastVertex* processed,
                            const glm::mat4& worldViewProj, const glm::mat4& worldView,
                            const glm::mat3& normalMatrix, std::vector<SetupTriangle>& out,
                            std::vector<Plane>& texPool, GeometryCounters& gc,
-                           bool prefetch = true);
+                           bool prefetch = true, const RowBand* band = nullptr);
+
+// One of the horizontal bands of a draw's clip rect that the multi-thread path for meshes
+// (device.cpp) gives each to one thread: that thread sets up and rasterizes, with a copy of
+// the draw's context whose clip rows are the band's, every triangle whose box meets the
+// band, so that no set-up triangle crosses cores and no binning or tile pass is needed. A
+// triangle whose box meets several bands is set up in each, with the same edges and
+// planes (the clip rect only bounds the box). Its counters belong to one band, the owner:
+// the band holding the box's first row in the whole clip rect (the rect's nearest row for
+// a box outside it), so that the owner's setup culls or draws it exactly as a setup over
+// the whole rect would. Triangles that need clipping are counted by the first band.
+struct RowBand {
+    const DrawContext* full;    // the draw's context; its clip rect is not empty
+    const uint32_t* rowSpans;   // rowSpanOf each vertex of the draw
+};
+
+// The rows a vertex gives the pixel box of its triangles, packed for the band selection
+// (setup_simd.cpp): low 16 bits the first row of a box whose top vertex it is, high 16
+// bits minus the last row of a box whose bottom vertex it is (negated so that the
+// minimum of both halves over three vertices gives both ends); the floors are those of
+// setupGeometry4's box, on the int32 snapped y (exact, |row| < 2^15 inside the guard
+// band). A vertex that needs clipping spans every row.
+inline uint32_t rowSpanOf(const FastVertex& v, int s) {
+    if (!v.unclipped) return uint32_t(uint16_t(INT16_MIN)) | uint32_t(uint16_t(-INT16_MAX)) << 16;
+    const int32_t half = int32_t{1} << (s - 1), one = int32_t{1} << s;
+    const int32_t first = (v.sy - half + one - 1) >> s, last = (v.sy - half) >> s;
+    return uint32_t(uint16_t(int16_t(first))) | uint32_t(uint16_t(int16_t(-last))) << 16;
+}
 // ---- raster_reference.cpp / raster_tiles.cpp -------------------------------------------
 void rasterizeReference(const DrawContext& dc, const std::vector<SetupTriangle>& tris,
                         const std::vector<Plane>& texPool, RasterCounters& rc);

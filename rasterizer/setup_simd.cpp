@@ -353,12 +353,131 @@ struct Transforms {
     const glm::mat4& worldView;
     const glm::mat3& normalMatrix;
     bool prefetch;
+    const RowBand* band;  // non-null: only the triangles of one band of rows (RowBand)
 };
+
+// ---- a band's triangles (RowBand) ----------------------------------------------------
+constexpr uint32_t kSelect = 256;       // triangles selected per call
+constexpr uint32_t kOwned = 1u << 31;  // in a selected entry: the band owns the triangle
+
+// Which of triangles [begin, end) the band sets up, in order, into `out` (triangle number,
+// | kOwned where the band counts it); returns how many. A triangle's rows [first, last]
+// are the minimum and maximum of its vertices' RowBand::rowSpans (the box's floors are
+// monotonic in the snapped y, so the box's rows are those of its extreme vertices); its
+// owner row is `first` clamped to the draw's clip rows (a vertex that needs clipping
+// spans every row: the first band owns the triangle, and every band sets it up).
+inline bool selectOne(const DrawContext& dc, const RowBand& band, uint32_t sa, uint32_t sb,
+                      uint32_t sc, bool& mine) {
+    const int first = std::min({int16_t(sa), int16_t(sb), int16_t(sc)});
+    const int last = -std::min({int16_t(sa >> 16), int16_t(sb >> 16), int16_t(sc >> 16)});
+    const int ownerRow = std::clamp(first, band.full->clipY0, band.full->clipY1 - 1);
+    mine = ownerRow >= dc.clipY0 && ownerRow < dc.clipY1;
+    return mine || (last >= dc.clipY0 && first < dc.clipY1);
+}
+
+// The reference selection: one triangle at a time, any primitive.
+uint32_t selectBandScalar(const DrawContext& dc, const RowBand& band, Primitive primitive,
+                          std::span<const uint32_t> indices, uint32_t begin, uint32_t end,
+                          uint32_t* out) {
+    uint32_t n = 0;
+    for (uint32_t t = begin; t < end; ++t) {
+        std::array<uint32_t, 3> tv = triangleVertices(primitive, t);
+        if (!indices.empty())
+            for (uint32_t& x : tv) x = indices[x];
+        bool mine;
+        if (selectOne(dc, band, band.rowSpans[tv[0]], band.rowSpans[tv[1]],
+                      band.rowSpans[tv[2]], mine))
+            out[n++] = t | (mine ? kOwned : 0u);
+    }
+    return n;
+}
+
+// Indexed lists on AVX2: eight triangles per step, their 24 indices split into the
+// first, second and third vertex of each by permutes, the spans gathered, and the
+// minima of both halves of the packed spans taken at once (vpminsw); the same answer as
+// selectOne (PathsAgree.MeshesDrawnInBandsOfRowsGiveIdenticalBytesAndCounters, with and
+// without RETROGLASS_NO_AVX2).
+__attribute__((target("avx2"))) uint32_t selectBandListAvx2(const DrawContext& dc,
+                                                            const RowBand& band,
+                                                            const uint32_t* indices,
+                                                            uint32_t begin, uint32_t end,
+                                                            uint32_t* out) {
+    const int* spans = reinterpret_cast<const int*>(band.rowSpans);
+    // Lane k of vertex j of eight triangles is index 3k + j of the 24: from the first,
+    // second or third register of eight indices, lane (3k + j) mod 8.
+    const __m256i pickA0 = _mm256_setr_epi32(0, 3, 6, 0, 0, 0, 0, 0);
+    const __m256i pickA1 = _mm256_setr_epi32(0, 0, 0, 1, 4, 7, 0, 0);
+    const __m256i pickA2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 0, 2, 5);
+    const __m256i pickB0 = _mm256_setr_epi32(1, 4, 7, 0, 0, 0, 0, 0);
+    const __m256i pickB1 = _mm256_setr_epi32(0, 0, 0, 2, 5, 0, 0, 0);
+    const __m256i pickB2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 0, 3, 6);
+    const __m256i pickC0 = _mm256_setr_epi32(2, 5, 0, 0, 0, 0, 0, 0);
+    const __m256i pickC1 = _mm256_setr_epi32(0, 0, 0, 3, 6, 0, 0, 0);
+    const __m256i pickC2 = _mm256_setr_epi32(0, 0, 0, 0, 0, 1, 4, 7);
+    const __m256i fullY0 = _mm256_set1_epi32(band.full->clipY0);
+    const __m256i fullLast = _mm256_set1_epi32(band.full->clipY1 - 1);
+    const __m256i bandY0m1 = _mm256_set1_epi32(dc.clipY0 - 1);
+    const __m256i bandY1 = _mm256_set1_epi32(dc.clipY1);
+    uint32_t n = 0, t = begin;
+    for (; t + 8 <= end; t += 8) {
+        const uint32_t* p = indices + 3 * size_t(t);
+        const __m256i i0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
+        const __m256i i1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p + 8));
+        const __m256i i2 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p + 16));
+        // a: 0,3,6 | 9,12,15 | 18,21; b: 1,4,7 | 10,13 | 16,19,22; c: 2,5 | 8,11,14 | 17,20,23
+        const __m256i a = _mm256_blend_epi32(
+            _mm256_blend_epi32(_mm256_permutevar8x32_epi32(i0, pickA0),
+                               _mm256_permutevar8x32_epi32(i1, pickA1), 0x38),
+            _mm256_permutevar8x32_epi32(i2, pickA2), 0xC0);
+        const __m256i b = _mm256_blend_epi32(
+            _mm256_blend_epi32(_mm256_permutevar8x32_epi32(i0, pickB0),
+                               _mm256_permutevar8x32_epi32(i1, pickB1), 0x18),
+            _mm256_permutevar8x32_epi32(i2, pickB2), 0xE0);
+        const __m256i c = _mm256_blend_epi32(
+            _mm256_blend_epi32(_mm256_permutevar8x32_epi32(i0, pickC0),
+                               _mm256_permutevar8x32_epi32(i1, pickC1), 0x1C),
+            _mm256_permutevar8x32_epi32(i2, pickC2), 0xE0);
+        const __m256i span = _mm256_min_epi16(
+            _mm256_min_epi16(_mm256_i32gather_epi32(spans, a, 4),
+                             _mm256_i32gather_epi32(spans, b, 4)),
+            _mm256_i32gather_epi32(spans, c, 4));
+        const __m256i first = _mm256_srai_epi32(_mm256_slli_epi32(span, 16), 16);
+        const __m256i last = _mm256_sub_epi32(_mm256_setzero_si256(), _mm256_srai_epi32(span, 16));
+        const __m256i owner = _mm256_min_epi32(_mm256_max_epi32(first, fullY0), fullLast);
+        const __m256i mine = _mm256_and_si256(_mm256_cmpgt_epi32(owner, bandY0m1),
+                                              _mm256_cmpgt_epi32(bandY1, owner));
+        const __m256i meets = _mm256_and_si256(_mm256_cmpgt_epi32(last, bandY0m1),
+                                               _mm256_cmpgt_epi32(bandY1, first));
+        unsigned keep = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_or_si256(mine, meets))));
+        const unsigned owned = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(mine)));
+        while (keep) {
+            const unsigned k = unsigned(__builtin_ctz(keep));
+            keep &= keep - 1;
+            out[n++] = (t + k) | ((owned >> k) & 1u) << 31;
+        }
+    }
+    const std::span<const uint32_t> all(indices, 3 * size_t(end));
+    return n + selectBandScalar(dc, band, Primitive::TriangleList, all, t, end, out + n);
+}
+
+template <bool kAvx2, bool kIndexedList>
+RG_LANES uint32_t selectBand(const DrawContext& dc, const RowBand& band, Primitive primitive,
+                             std::span<const uint32_t> indices, uint32_t begin, uint32_t end,
+                             uint32_t* out) {
+    if constexpr (kAvx2 && kIndexedList)
+        return selectBandListAvx2(dc, band, indices.data(), begin, end, out);
+    else
+        return selectBandScalar(dc, band, primitive, indices, begin, end, out);
+}
 
 // kIndexedList: the caller checked that `primitive` is a triangle list with indices (most
 // meshes), so that the assembly below compiles to loads of consecutive indices instead of
 // a switch and two branches per triangle and vertex.
-template <bool kAvx2, class V, bool kIndexedList = false>
+// kBanded (FastVertex only): transforms->band names a band of rows; the triangles whose
+// box misses its rows are skipped (the band's own clip rect, `dc`, would reject them), and
+// the counters count only the triangles the band owns (RowBand), so that the bands of a
+// draw together count each triangle once, as one setup over the whole clip rect would.
+template <bool kAvx2, class V, bool kIndexedList = false, bool kBanded = false>
 RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_t begin,
                              uint32_t end, std::span<const uint32_t> indices,
                              std::span<const Vertex> vertices, const V* processed,
@@ -373,8 +492,40 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
     // setup time went to waiting on the first vertex loads of a group). Not for records the
     // caller has just written (setupTrianglesCompact's `prefetch`).
     constexpr uint32_t kPrefetch = 16;
-    const bool prefetch = !transforms || transforms->prefetch;
-    for (uint32_t i = begin; i < end; i += 4) {
+    const bool prefetch = !kBanded && (!transforms || transforms->prefetch);
+    GeometryCounters notOwned;  // kBanded: the counts of triangles another band owns
+    // kBanded: the band's triangles of [begin, end), kSelect at a time (selectBand).
+    uint32_t selected[kSelect];
+    uint32_t selectedCount = 0, selectedNext = 0, scanned = begin;
+    for (uint32_t i = begin;; i += 4) {
+        // ---- the next four triangles (of the band) ----------------------------------------
+        uint32_t tri[4];
+        int n = 0;
+        unsigned owned = 0xF;  // bit k: triangle k's counts are this band's
+        if constexpr (kBanded) {
+            static_assert(std::is_same_v<V, FastVertex>);
+            owned = 0;
+            while (n < 4) {
+                if (selectedNext == selectedCount) {
+                    if (scanned == end) break;
+                    const uint32_t stop = std::min(end, scanned + kSelect);
+                    selectedCount = selectBand<kAvx2, kIndexedList>(
+                        dc, *transforms->band, primitive, indices, scanned, stop, selected);
+                    selectedNext = 0;
+                    scanned = stop;
+                    continue;
+                }
+                const uint32_t e = selected[selectedNext++];
+                tri[n] = e & ~kOwned;
+                owned |= (e >> 31) << n;
+                ++n;
+            }
+            if (n == 0) break;
+        } else {
+            if (i >= end) break;
+            n = int(std::min<uint32_t>(4, end - i));
+            for (int k = 0; k < 4; ++k) tri[k] = i + uint32_t(k);
+        }
         if (prefetch && i + kPrefetch + 4 <= end) {
             for (uint32_t k = 0; k < 4; ++k) {
                 const std::array<uint32_t, 3> tv = triangleVertices(primitive, i + kPrefetch + k);
@@ -387,7 +538,6 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
             }
         }
         // ---- primitive assembly of up to four triangles ----------------------------------
-        const int n = int(std::min<uint32_t>(4, end - i));
         const V* v[4][3];
         uint32_t provoking[4], second[4], third[4];
         unsigned unclipped = 0;  // bit k: triangle k takes the SIMD setup
@@ -396,7 +546,7 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
                 v[k][0] = v[0][0], v[k][1] = v[0][1], v[k][2] = v[0][2];
                 continue;
             }
-            const std::array<uint32_t, 3> tv = triangleVertices(primitive, i + uint32_t(k));
+            const std::array<uint32_t, 3> tv = triangleVertices(primitive, tri[k]);
             const uint32_t a = indexed ? indices[tv[0]] : tv[0];
             const uint32_t b = indexed ? indices[tv[1]] : tv[1];
             const uint32_t c = indexed ? indices[tv[2]] : tv[2];
@@ -414,14 +564,15 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
         Geometry4 g;
         if (unclipped) setupGeometry4(dc, v, g);
         for (int k = 0; k < n; ++k) {
+            GeometryCounters& counts = (owned >> k) & 1 ? gc : notOwned;
             if (unclipped & (1u << k)) {
-                ++gc.submitted;
+                ++counts.submitted;
                 if (g.keep[k]) {
                     emitTriangle<kAvx2, V>(dc, g, k, v[k], vertices[provoking[k]], out,
                                            texPool);
-                    ++gc.drawn;
+                    ++counts.drawn;
                 } else {
-                    ++gc.culled;
+                    ++counts.culled;
                 }
             } else {
                 const Rgba8 flatD = dc.gouraud ? Rgba8{} : vertices[provoking[k]].diffuse;
@@ -434,7 +585,24 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
                     for (int j = 0; j < 3; ++j)
                         processVertexInto(dc, transforms->worldViewProj, transforms->worldView,
                                           transforms->normalMatrix, vertices[idx[j]], full[j]);
-                    clipAndSetup(dc, full[0], full[1], full[2], flatD, flatS, out, texPool, gc);
+                    if constexpr (kBanded) {
+                        // What the clipper makes of it may lie in any band, and a piece
+                        // outside this band's rows would count as culled: the owner counts
+                        // the triangle from a setup over the whole clip rect, whose
+                        // triangles it then drops.
+                        if ((owned >> k) & 1) {
+                            const size_t tris = out.size(), planes = texPool.size();
+                            clipAndSetup(*transforms->band->full, full[0], full[1], full[2],
+                                         flatD, flatS, out, texPool, gc);
+                            out.resize(tris);
+                            texPool.resize(planes);
+                        }
+                        clipAndSetup(dc, full[0], full[1], full[2], flatD, flatS, out, texPool,
+                                     notOwned);
+                    } else {
+                        clipAndSetup(dc, full[0], full[1], full[2], flatD, flatS, out, texPool,
+                                     gc);
+                    }
                 } else {
                     (void)transforms;
                     clipAndSetup(dc, *v[k][0], *v[k][1], *v[k][2], flatD, flatS, out,
@@ -471,7 +639,16 @@ RG_LANES void setupCompactBody(const DrawContext& dc, Primitive primitive, uint3
                                std::span<const Vertex> vertices, const FastVertex* processed,
                                const Transforms& tr, std::vector<SetupTriangle>& out,
                                std::vector<Plane>& texPool, GeometryCounters& gc) {
-    if (primitive == Primitive::TriangleList && !indices.empty())
+    const bool list = primitive == Primitive::TriangleList && !indices.empty();
+    if (tr.band && list)
+        setupRangeBody<kAvx2, FastVertex, true, true>(dc, primitive, begin, end, indices,
+                                                      vertices, processed, &tr, out, texPool,
+                                                      gc);
+    else if (tr.band)
+        setupRangeBody<kAvx2, FastVertex, false, true>(dc, primitive, begin, end, indices,
+                                                       vertices, processed, &tr, out, texPool,
+                                                       gc);
+    else if (list)
         setupRangeBody<kAvx2, FastVertex, true>(dc, primitive, begin, end, indices, vertices,
                                                 processed, &tr, out, texPool, gc);
     else
@@ -518,9 +695,10 @@ void setupTrianglesCompact(const DrawContext& dc, Primitive primitive, uint32_t 
                            std::span<const Vertex> vertices, const FastVertex* processed,
                            const glm::mat4& worldViewProj, const glm::mat4& worldView,
                            const glm::mat3& normalMatrix, std::vector<SetupTriangle>& out,
-                           std::vector<Plane>& texPool, GeometryCounters& gc, bool prefetch) {
+                           std::vector<Plane>& texPool, GeometryCounters& gc, bool prefetch,
+                           const RowBand* band) {
     static const bool avx2 = haveAvx2();
-    const Transforms tr{worldViewProj, worldView, normalMatrix, prefetch};
+    const Transforms tr{worldViewProj, worldView, normalMatrix, prefetch, band};
     if (avx2)
         setupCompactAvx2(dc, primitive, begin, end, indices, vertices, processed, tr, out,
                          texPool, gc);

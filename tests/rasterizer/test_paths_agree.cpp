@@ -7,6 +7,8 @@
 // with RETROGLASS_PATHS_SEED=<seed> in the environment to replay that session alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -321,6 +323,128 @@ TEST(PathsAgree, DenseMeshesOfTinyTrianglesGiveIdenticalBytesAndCounters) {
     }
     EXPECT_EQ(draws, 1200);
     EXPECT_GT(drawn, 100000u);
+}
+
+// Meshes of thousands of small triangles of untransformed, untextured vertices, the draws
+// the fast path splits into one band of rows per thread (drawInBands, RowBand): grids in
+// mesh order (the band selection's eight-triangle steps), shuffled (no locality), without
+// indices and as strips (the scalar selection), some crossing the near plane, with a NaN
+// or a far-out vertex (the clipper, whose triangles the first band counts), culling,
+// scissors and viewports that leave bands empty, on 2–8 threads.
+TEST(PathsAgree, MeshesDrawnInBandsOfRowsGiveIdenticalBytesAndCounters) {
+    tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 8);
+    int draws = 0;
+    Counters sum;
+    for (uint64_t seed = 1; seed <= 24 && !HasFatalFailure(); ++seed) {
+        Rng r(9100 + seed);
+        const int w = r.i(24, 220), h = r.i(16, 170);
+        const DepthFormat fmt = DepthFormat(r.i(0, 2));
+        const int threads = std::array{2, 3, 4, 8}[size_t(r.i(0, 3))];
+        Device ref(profile(ProfileId::GeForce256), w, h, fmt, {Path::Reference, 1});
+        Device fast(profile(ProfileId::GeForce256), w, h, fmt, {Path::Fast, threads});
+        const Rgba8 background{r.byte(), r.byte(), r.byte(), r.byte()};
+        for (Device* d : {&ref, &fast}) d->clear(true, background, true, 1.0f);
+        for (int k = 0; k < 4; ++k, ++draws) {
+            PipelineState s = randomState(r);
+            const bool perspective = r.p(0.35);
+            // A grid of gx × gy cells, two triangles each, at least 4,096 triangles.
+            const int gx = r.i(24, 96), gy = 2048 / gx + r.i(1, 24);
+            const float cell = r.f(0.3f, 3.0f) * (perspective ? 4.0f / float(w) : 1.0f);
+            const float x0 = perspective ? -0.5f * cell * float(gx) : r.f(-20.0f, float(w) - 10.0f);
+            const float y0 = perspective ? -0.5f * cell * float(gy) : r.f(-40.0f, float(h) - 10.0f);
+            std::vector<Vertex> verts;
+            for (int j = 0; j <= gy; ++j)
+                for (int i = 0; i <= gx; ++i) {
+                    Vertex v;
+                    const float x = x0 + cell * float(i) + r.f(-0.3f, 0.3f) * cell;
+                    const float y = y0 + cell * float(j) + r.f(-0.3f, 0.3f) * cell;
+                    // Perspective: the camera at z = −3, near plane 0.5: z < −2.5 is
+                    // clipped, z < −3 behind the eye.
+                    const float z = perspective ? (r.p(0.02) ? r.f(-3.5f, -2.4f) : r.f(-1.0f, 2.0f))
+                                                : r.f(0.0f, 1.0f);
+                    v.position = {x, y, z, 1.0f};
+                    v.diffuse = randomColor(r);
+                    v.specular = Rgba8{r.byte(), r.byte(), r.byte(), r.byte()};
+                    verts.push_back(v);
+                }
+            if (r.p(0.2)) verts[size_t(r.i(0, int(verts.size()) - 1))].position.y = weird(r);
+            if (r.p(0.2)) verts[size_t(r.i(0, int(verts.size()) - 1))].position.x = r.f(-1e5f, 1e5f);
+            std::vector<uint32_t> indices;
+            for (int j = 0; j < gy; ++j)
+                for (int i = 0; i < gx; ++i) {
+                    const uint32_t a = uint32_t(j * (gx + 1) + i), b = a + 1,
+                                   c = a + uint32_t(gx) + 1, d = c + 1;
+                    indices.insert(indices.end(), {a, b, d, a, d, c});
+                }
+            Primitive prim = Primitive::TriangleList;
+            const int order = r.i(0, 9);
+            if (order >= 6 && order <= 7) {  // the triangles in random order
+                std::vector<uint32_t> shuffled(indices.size());
+                std::vector<uint32_t> tri(indices.size() / 3);
+                for (uint32_t t = 0; t < tri.size(); ++t) tri[t] = t;
+                std::shuffle(tri.begin(), tri.end(), r.g);
+                for (size_t t = 0; t < tri.size(); ++t)
+                    for (int e = 0; e < 3; ++e) shuffled[3 * t + size_t(e)] = indices[3 * tri[t] + size_t(e)];
+                indices = std::move(shuffled);
+            } else if (order == 8) {  // no indices: the vertices of each triangle in turn
+                std::vector<Vertex> expanded;
+                for (uint32_t i : indices) expanded.push_back(verts[i]);
+                verts = std::move(expanded);
+                indices.clear();
+            } else if (order == 9) {  // a strip zigzagging along the grid's rows
+                prim = r.p(0.5) ? Primitive::TriangleStrip : Primitive::TriangleFan;
+                std::vector<uint32_t> strip;
+                for (int j = 0; j < gy; j += 2)
+                    for (int i = 0; i <= gx; ++i)
+                        strip.insert(strip.end(), {uint32_t(j * (gx + 1) + i),
+                                                   uint32_t((j + 1) * (gx + 1) + i)});
+                indices = std::move(strip);
+            }
+            Viewport vp{0, 0, w, h, 0.0f, 1.0f};
+            if (r.p(0.2)) {
+                vp.y = r.i(0, h / 2);
+                vp.height = r.i(1, h - vp.y);
+            }
+            const Rect scissor{r.i(-5, w / 2), r.i(-5, h / 2), r.i(0, w), r.i(0, h)};
+            const glm::mat4 view = perspective
+                                       ? glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 3.0f))
+                                       : glm::mat4(1.0f);
+            const glm::mat4 proj =
+                perspective ? glm::perspectiveLH_ZO(1.0f, float(w) / float(h), 0.5f, 20.0f)
+                            : glm::orthoLH_ZO(0.0f, float(w), float(h), 0.0f, 0.0f, 1.0f);
+            for (Device* d : {&ref, &fast}) {
+                d->setState(s);
+                d->setViewport(vp);
+                d->setScissor(scissor);
+                d->setTransforms(glm::mat4(1.0f), view, proj);
+                d->draw(prim, VertexSpace::Untransformed, verts, indices);
+            }
+            const std::string where = "seed " + std::to_string(seed) + " draw " +
+                                      std::to_string(k) + " (" + std::to_string(threads) +
+                                      " threads, order " + std::to_string(order) + ")";
+            ASSERT_TRUE(std::memcmp(ref.framebuffer().color().data(),
+                                    fast.framebuffer().color().data(),
+                                    ref.framebuffer().color().size_bytes()) == 0 &&
+                        std::equal(ref.framebuffer().depth().begin(),
+                                   ref.framebuffer().depth().end(),
+                                   fast.framebuffer().depth().begin()))
+                << "paths differ after " << where << ": "
+                << firstDifference(ref.framebuffer(), fast.framebuffer());
+            ASSERT_TRUE(sameCounters(ref.counters(), fast.counters()))
+                << "counters differ after " << where << "\nreference:\n"
+                << ref.counters().toString() << "fast:\n" << fast.counters().toString();
+            sum.trianglesDrawn += ref.counters().trianglesDrawn;
+            sum.trianglesCulled += ref.counters().trianglesCulled;
+            sum.trianglesClipped += ref.counters().trianglesClipped;
+            sum.trianglesInvalid += ref.counters().trianglesInvalid;
+        }
+    }
+    EXPECT_EQ(draws, 96);
+    // Every kind of triangle the bands count differently came up.
+    EXPECT_GT(sum.trianglesDrawn, 100000u);
+    EXPECT_GT(sum.trianglesCulled, 10000u);
+    EXPECT_GT(sum.trianglesClipped, 10u);
+    EXPECT_GT(sum.trianglesInvalid, 0u);
 }
 
 // The same frame from the fast path on 1, 2, 3 and 8 threads and from the reference path:
