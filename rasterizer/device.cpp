@@ -97,7 +97,8 @@ void Device::Impl::drawInBands(const DrawContext& dc, Primitive primitive,
                                uint32_t chunk, GeometryCounters& gc, RasterCounters& rc) {
     const int s = dc.subpixelBits;
     const int strips = (fb.height() + kBandStrip - 1) / kBandStrip;
-    std::vector<uint32_t> perStrip(size_t(strips), 0);  // unclipped vertices per strip
+    // Unclipped vertices in the clip rows, per strip of rows.
+    std::vector<uint32_t> perStrip(size_t(strips), 0);
     const int bands = arena->max_concurrency();
     std::vector<GeometryCounters> bandGeometry(static_cast<size_t>(bands));
     std::vector<RasterCounters> bandRaster(static_cast<size_t>(bands));
@@ -121,9 +122,9 @@ void Device::Impl::drawInBands(const DrawContext& dc, Primitive primitive,
                 for (size_t i = r.begin(); i < r.end(); ++i) {
                     const FastVertex& v = fastVertices[i];
                     rowSpans[i] = rowSpanOf(v, s);
-                    if (!v.unclipped) continue;
-                    const int row = std::clamp(v.sy >> s, 0, fb.height() - 1);
-                    ++local[size_t(row / kBandStrip)];
+                    const int row = v.sy >> s;  // (sy: 0 unless unclipped)
+                    if (v.unclipped && row >= dc.clipY0 && row < dc.clipY1)
+                        ++local[size_t(row / kBandStrip)];
                 }
                 for (int k = 0; k < strips; ++k)
                     if (local[size_t(k)])

@@ -1,11 +1,16 @@
 // Clears and pixel transfers (docs/hardware.md, "Framebuffer and pixel transfer").
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include "core/error.h"
 #include "device_impl.h"
 #include "rasterizer/trace.h"
 #include "rasterizer/device.h"
 #include "rasterizer/fragment_ops.h"
+#include "tsan_annotations.h"
 
 namespace rg::raster {
 
@@ -49,11 +54,35 @@ void Device::clear(bool color, Rgba8 colorValue, bool depth, float depthValue) {
     if (!clipRect(fb, x0, y0, x1, y1)) return;
     const bool hasDepth = depth && fb.depthFormat() != DepthFormat::None;
     const uint32_t z = hasDepth ? quantizeDepth(depthValue, fb.depthMax()) : 0;
-    for (int64_t y = y0; y < y1; ++y) {
-        const size_t row = size_t(y) * size_t(fb.width());
-        if (color) std::fill(fb.color().begin() + row + x0, fb.color().begin() + row + x1, colorValue);
-        if (hasDepth) std::fill(fb.depth().begin() + row + x0, fb.depth().begin() + row + x1, z);
+    auto clearRows = [&](int64_t ya, int64_t yb) {
+        for (int64_t y = ya; y < yb; ++y) {
+            const size_t row = size_t(y) * size_t(fb.width());
+            if (color)
+                std::fill(fb.color().begin() + row + x0, fb.color().begin() + row + x1, colorValue);
+            if (hasDepth)
+                std::fill(fb.depth().begin() + row + x0, fb.depth().begin() + row + x1, z);
+        }
+    };
+    // A whole target's clear is a memory-bound fill that the threads share by rows (each
+    // row written by one of them, the same bytes in any order); a small one is not worth
+    // waking them.
+    constexpr int64_t kParallelPixels = 1 << 16;
+    tbb::task_arena& arena = *impl_->arena;
+    if (arena.max_concurrency() == 1 || (x1 - x0) * (y1 - y0) < kParallelPixels) {
+        clearRows(y0, y1);
+        return;
     }
+    [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
+    RG_TSAN_RELEASE(&forkJoin);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int64_t>(y0, y1, 16),
+                          [&](const tbb::blocked_range<int64_t>& r) {
+                              RG_TSAN_ACQUIRE(&forkJoin);
+                              clearRows(r.begin(), r.end());
+                              RG_TSAN_RELEASE(&forkJoin);
+                          });
+    });
+    RG_TSAN_ACQUIRE(&forkJoin);
 }
 
 // glDrawPixels at window (x, y), rows top to bottom, through the pixel-transfer stage;

@@ -1,6 +1,8 @@
 // Vertex transform, primitive assembly and homogeneous clipping
 // (docs/hardware.md, "Vertex transform and clipping").
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <type_traits>
 
 #include <glm/mat3x3.hpp>
@@ -197,12 +199,22 @@ using namespace lanes;
 // same values in the fields it has).
 template <class Out>
 RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex* v, Out* out) {
-    F32x8 x, y, z;
-    for (int k = 0; k < 8; ++k) {
-        x[k] = v[k].position.x;
-        y[k] = v[k].position.y;
-        z[k] = v[k].position.z;
-    }
+    // The eight positions as four 4×4 transposes of (x, y, z, w) rows, vertex k in lane k:
+    // whole-vector loads and shuffles instead of 24 loads into single lanes.
+    F32x4 pos[8];
+    for (int k = 0; k < 8; ++k) std::memcpy(&pos[k], &v[k].position, sizeof(F32x4));
+    const F32x8 r0 = __builtin_shufflevector(pos[0], pos[4], 0, 1, 2, 3, 4, 5, 6, 7);
+    const F32x8 r1 = __builtin_shufflevector(pos[1], pos[5], 0, 1, 2, 3, 4, 5, 6, 7);
+    const F32x8 r2 = __builtin_shufflevector(pos[2], pos[6], 0, 1, 2, 3, 4, 5, 6, 7);
+    const F32x8 r3 = __builtin_shufflevector(pos[3], pos[7], 0, 1, 2, 3, 4, 5, 6, 7);
+    // (x0 x1 y0 y1 | x4 x5 y4 y5), (x2 x3 y2 y3 | x6 x7 y6 y7), and the same for z, w.
+    const F32x8 xy01 = __builtin_shufflevector(r0, r1, 0, 8, 1, 9, 4, 12, 5, 13);
+    const F32x8 xy23 = __builtin_shufflevector(r2, r3, 0, 8, 1, 9, 4, 12, 5, 13);
+    const F32x8 zw01 = __builtin_shufflevector(r0, r1, 2, 10, 3, 11, 6, 14, 7, 15);
+    const F32x8 zw23 = __builtin_shufflevector(r2, r3, 2, 10, 3, 11, 6, 14, 7, 15);
+    const F32x8 x = __builtin_shufflevector(xy01, xy23, 0, 1, 8, 9, 4, 5, 12, 13);
+    const F32x8 y = __builtin_shufflevector(xy01, xy23, 2, 3, 10, 11, 6, 7, 14, 15);
+    const F32x8 z = __builtin_shufflevector(zw01, zw23, 0, 1, 8, 9, 4, 5, 12, 13);
     I32x8 valid = finiteLanes(x) & finiteLanes(y) & finiteLanes(z);
     F32x8 c[4];
     for (int r = 0; r < 4; ++r)
@@ -243,17 +255,45 @@ RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex*
                             finiteLanes(wz) & finiteLanes(invW);
 
     if constexpr (std::is_same_v<Out, FastVertex>) {
+        // The eight records as columns (sx, sy, wz, invW | diffuse, specular, unclipped,
+        // pad), an invalid vertex's first four zero as processVertexInto leaves them, then
+        // transposed in registers and stored whole.
+        static_assert(offsetof(FastVertex, diffuse) == 16 && offsetof(FastVertex, pad) == 28);
+        const I32x4 sxLo = __builtin_convertvector(sx[0], I32x4), sxHi = __builtin_convertvector(sx[1], I32x4);
+        const I32x4 syLo = __builtin_convertvector(sy[0], I32x4), syHi = __builtin_convertvector(sy[1], I32x4);
+        const I32x8 cSx = __builtin_shufflevector(sxLo, sxHi, 0, 1, 2, 3, 4, 5, 6, 7) & valid;
+        const I32x8 cSy = __builtin_shufflevector(syLo, syHi, 0, 1, 2, 3, 4, 5, 6, 7) & valid;
+        const I32x8 cWz = (I32x8)wz & valid, cW = (I32x8)invW & valid;
+        I32x8 cD, cS;
         for (int k = 0; k < 8; ++k) {
-            FastVertex& p = out[k];
-            const bool ok = valid[k] != 0;  // an invalid vertex: processVertexInto's zeros
-            p.sx = ok ? int32_t(sx[k >> 2][k & 3]) : 0;
-            p.sy = ok ? int32_t(sy[k >> 2][k & 3]) : 0;
-            p.wz = ok ? wz[k] : 0.0f;
-            p.invW = ok ? invW[k] : 0.0f;
-            p.diffuse = v[k].diffuse;
-            p.specular = v[k].specular;
-            p.unclipped = unclipped[k] != 0 ? 1u : 0u;
-            p.pad = 0;
+            std::memcpy(&cD[k], &v[k].diffuse, 4);
+            std::memcpy(&cS[k], &v[k].specular, 4);
+        }
+        const I32x8 cU = unclipped & 1, cP = {};
+        // 4×4 transposes within each 128-bit half: records k and k + 4 per register.
+        auto lo32 = [](I32x8 a, I32x8 b) __attribute__((always_inline)) {
+            return __builtin_shufflevector(a, b, 0, 8, 1, 9, 4, 12, 5, 13);
+        };
+        auto hi32 = [](I32x8 a, I32x8 b) __attribute__((always_inline)) {
+            return __builtin_shufflevector(a, b, 2, 10, 3, 11, 6, 14, 7, 15);
+        };
+        auto lo64 = [](I32x8 a, I32x8 b) __attribute__((always_inline)) {
+            return __builtin_shufflevector(a, b, 0, 1, 8, 9, 4, 5, 12, 13);
+        };
+        auto hi64 = [](I32x8 a, I32x8 b) __attribute__((always_inline)) {
+            return __builtin_shufflevector(a, b, 2, 3, 10, 11, 6, 7, 14, 15);
+        };
+        const I32x8 a01 = lo32(cSx, cSy), a23 = hi32(cSx, cSy);  // sx sy of 0 1 | 4 5 ...
+        const I32x8 b01 = lo32(cWz, cW), b23 = hi32(cWz, cW);
+        const I32x8 c01 = lo32(cD, cS), c23 = hi32(cD, cS);
+        const I32x8 d01 = lo32(cU, cP), d23 = hi32(cU, cP);
+        const I32x8 first[4] = {lo64(a01, b01), hi64(a01, b01), lo64(a23, b23), hi64(a23, b23)};
+        const I32x8 second[4] = {lo64(c01, d01), hi64(c01, d01), lo64(c23, d23), hi64(c23, d23)};
+        for (int k = 0; k < 4; ++k) {
+            const I32x8 recK = __builtin_shufflevector(first[k], second[k], 0, 1, 2, 3, 8, 9, 10, 11);
+            const I32x8 recK4 = __builtin_shufflevector(first[k], second[k], 4, 5, 6, 7, 12, 13, 14, 15);
+            std::memcpy(static_cast<void*>(&out[k]), &recK, sizeof(FastVertex));
+            std::memcpy(static_cast<void*>(&out[k + 4]), &recK4, sizeof(FastVertex));
         }
     } else {
         for (int k = 0; k < 8; ++k) {
