@@ -123,6 +123,21 @@ bool sameCounters(const Counters& a, const Counters& b) {
            a.bytesReadBack == b.bytesReadBack;
 }
 
+// The colour and depth bytes and the counters of the two devices, or where they differ.
+::testing::AssertionResult sameFrameAndCounters(const Device& ref, const Device& fast,
+                                                const std::string& where) {
+    const Framebuffer &a = ref.framebuffer(), &b = fast.framebuffer();
+    if (std::memcmp(a.color().data(), b.color().data(), a.color().size_bytes()) != 0 ||
+        !std::equal(a.depth().begin(), a.depth().end(), b.depth().begin()))
+        return ::testing::AssertionFailure()
+               << "paths differ after " << where << ": " << firstDifference(a, b);
+    if (!sameCounters(ref.counters(), fast.counters()))
+        return ::testing::AssertionFailure()
+               << "counters differ after " << where << "\nreference:\n"
+               << ref.counters().toString() << "fast:\n" << fast.counters().toString();
+    return ::testing::AssertionSuccess();
+}
+
 // One session: a pair of devices receiving the same `draws` random commands.
 int texturedDraws = 0;
 
@@ -307,17 +322,7 @@ TEST(PathsAgree, DenseMeshesOfTinyTrianglesGiveIdenticalBytesAndCounters) {
                 d->draw(Primitive::TriangleList, space, verts, indices);
             }
             const std::string where = "seed " + std::to_string(seed) + " draw " + std::to_string(k);
-            ASSERT_TRUE(std::memcmp(ref.framebuffer().color().data(),
-                                    fast.framebuffer().color().data(),
-                                    ref.framebuffer().color().size_bytes()) == 0 &&
-                        std::equal(ref.framebuffer().depth().begin(),
-                                   ref.framebuffer().depth().end(),
-                                   fast.framebuffer().depth().begin()))
-                << "paths differ after " << where << ": "
-                << firstDifference(ref.framebuffer(), fast.framebuffer());
-            ASSERT_TRUE(sameCounters(ref.counters(), fast.counters()))
-                << "counters differ after " << where << "\nreference:\n"
-                << ref.counters().toString() << "fast:\n" << fast.counters().toString();
+            ASSERT_TRUE(sameFrameAndCounters(ref, fast, where));
         }
         drawn += ref.counters().trianglesDrawn;
     }
@@ -422,17 +427,7 @@ TEST(PathsAgree, MeshesDrawnInBandsOfRowsGiveIdenticalBytesAndCounters) {
             const std::string where = "seed " + std::to_string(seed) + " draw " +
                                       std::to_string(k) + " (" + std::to_string(threads) +
                                       " threads, order " + std::to_string(order) + ")";
-            ASSERT_TRUE(std::memcmp(ref.framebuffer().color().data(),
-                                    fast.framebuffer().color().data(),
-                                    ref.framebuffer().color().size_bytes()) == 0 &&
-                        std::equal(ref.framebuffer().depth().begin(),
-                                   ref.framebuffer().depth().end(),
-                                   fast.framebuffer().depth().begin()))
-                << "paths differ after " << where << ": "
-                << firstDifference(ref.framebuffer(), fast.framebuffer());
-            ASSERT_TRUE(sameCounters(ref.counters(), fast.counters()))
-                << "counters differ after " << where << "\nreference:\n"
-                << ref.counters().toString() << "fast:\n" << fast.counters().toString();
+            ASSERT_TRUE(sameFrameAndCounters(ref, fast, where));
             sum.trianglesDrawn += ref.counters().trianglesDrawn;
             sum.trianglesCulled += ref.counters().trianglesCulled;
             sum.trianglesClipped += ref.counters().trianglesClipped;
