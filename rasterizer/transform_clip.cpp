@@ -264,11 +264,14 @@ RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex*
         const I32x8 cSx = __builtin_shufflevector(sxLo, sxHi, 0, 1, 2, 3, 4, 5, 6, 7) & valid;
         const I32x8 cSy = __builtin_shufflevector(syLo, syHi, 0, 1, 2, 3, 4, 5, 6, 7) & valid;
         const I32x8 cWz = (I32x8)wz & valid, cW = (I32x8)invW & valid;
-        I32x8 cD, cS;
+        int32_t diffuse[8], specular[8];
         for (int k = 0; k < 8; ++k) {
-            std::memcpy(&cD[k], &v[k].diffuse, 4);
-            std::memcpy(&cS[k], &v[k].specular, 4);
+            std::memcpy(&diffuse[k], &v[k].diffuse, 4);
+            std::memcpy(&specular[k], &v[k].specular, 4);
         }
+        I32x8 cD, cS;
+        std::memcpy(&cD, diffuse, sizeof cD);
+        std::memcpy(&cS, specular, sizeof cS);
         const I32x8 cU = unclipped & 1, cP = {};
         // 4×4 transposes within each 128-bit half: records k and k + 4 per register.
         auto lo32 = [](I32x8 a, I32x8 b) __attribute__((always_inline)) {
