@@ -355,6 +355,32 @@ SurfacePoint Accel::surface(const Ray& ray, const Hit& hit) const {
 // intersection filter is not the same bytes: Embree's filter loop goes on to the other
 // hits of the leaf at the accepted distance and keeps the last of equal-t hits, where the
 // plain path keeps the first (a shared edge's ties).
+//
+// Measured again with an in-process A/B (each variant behind a switch in one binary, the
+// bench's rays and loop, thread CPU time, minimum of 60-80 interleaved rounds per quarter
+// of the rays; spread 0.5-1 ns where the bench's is 3-5 ns), ns per ray, primary /
+// secondary: as written 107.5 / 143; no resolve (Hit still stored) 94 / 129; the record
+// read from one L1-resident line, address chain kept, 105.5 / 135. The secondary rays
+// hit the room's 12 triangles 90% of the time and a random teapot triangle 10% of the
+// time (its records are 3.2 MB), and those records come from beyond L2: that is the
+// 6-9 ns. The interpolated normal never needs the flip or the fallback on these rays (0
+// of 614,400), so no branch mispredicts either. Tried, none worth its code:
+// - a 64-byte line-aligned record (normals, face normal, part) with the uvs in a 32-byte
+//   side array: no change (an 80-byte record's two lines arrive together);
+// - records_ on transparent huge pages (AnonHugePages confirmed): no change;
+// - the prefetch from a context filter made the same bytes by redoing, without the
+//   filter, every ray whose filter saw a tie (equal t after an accept): same bytes on
+//   1.8 M rays of six scenes, but +6.5 / +6 ns — the filter call costs more than the miss;
+// - resolve() on SSE rows (unaligned row loads at 0/12/24 floats, the SurfacePoint as
+//   four 16-byte row stores through bit_cast, a quarter fewer FP operations and no
+//   default-initialisation stores): -0..-2 / -1.5..-4 ns, and in retroglass bench
+//   (four alternated rounds, --repetitions 5, medians) 8.92 vs 8.94 M rays/s primary, 6.69 vs 6.69
+//   secondary: nothing measurable; on top of it, the square root and division removed
+//   -0.8 / -0.9 (latency is not the cost), the context initialised once -0, setRay's rows
+//   from two loads -0, the Hit copied as four 8-byte integer words -0.5 / -1.5, as eight
+//   4-byte words +3.5; storing only the row holding ns.x -2 / -2.
+// So the ~12 ns (primary) of resolve() follows neither its latency nor its count of FP
+// operations; of what is known, only the secondary rays' record misses are left.
 __attribute__((always_inline)) inline SurfacePoint Accel::traceAndResolve(const Ray& ray,
                                                                          Hit* hitOut) const {
     RTCIntersectContext ctx;
