@@ -1,4 +1,6 @@
 // Clears and pixel transfers (docs/hardware.md, "Framebuffer and pixel transfer").
+#include <cstring>
+#include <iterator>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -54,11 +56,18 @@ void Device::clear(bool color, Rgba8 colorValue, bool depth, float depthValue) {
     if (!clipRect(fb, x0, y0, x1, y1)) return;
     const bool hasDepth = depth && fb.depthFormat() != DepthFormat::None;
     const uint32_t z = hasDepth ? quantizeDepth(depthValue, fb.depthMax()) : 0;
+    // The colour as a 32-byte block of eight pixels, copied whole: std::fill of the
+    // four-byte struct compiled to byte stores, five instructions a pixel (measured).
+    Rgba8 block[8];
+    std::fill(std::begin(block), std::end(block), colorValue);
+    auto fillColor = [&](Rgba8* p, int64_t n) {
+        for (; n >= 8; n -= 8, p += 8) std::memcpy(p, block, sizeof block);
+        std::memcpy(p, block, size_t(n) * sizeof(Rgba8));
+    };
     auto clearRows = [&](int64_t ya, int64_t yb) {
         for (int64_t y = ya; y < yb; ++y) {
             const size_t row = size_t(y) * size_t(fb.width());
-            if (color)
-                std::fill(fb.color().begin() + row + x0, fb.color().begin() + row + x1, colorValue);
+            if (color) fillColor(fb.color().data() + row + x0, x1 - x0);
             if (hasDepth)
                 std::fill(fb.depth().begin() + row + x0, fb.depth().begin() + row + x1, z);
         }
