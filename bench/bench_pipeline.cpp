@@ -94,9 +94,12 @@ void runRetroglass(benchmark::State& state, Workload w, int threads) {
     // The mesh goes through the full transform (orthographic, like glOrtho on the GL side).
     dev.setTransforms(glm::mat4(1.0f), glm::mat4(1.0f),
                       glm::orthoLH_ZO(0.0f, float(kWidth), float(kHeight), 0.0f, 0.0f, 1.0f));
-    std::vector<Vertex> verts(mesh.color.size());
+    // The 16-byte D3DFVF_XYZ | D3DFVF_DIFFUSE vertices a Direct3D 7 program would put in
+    // its vertex buffer: the same bytes per vertex as the float xyz and unsigned-byte
+    // colour arrays the GL side hands over.
+    std::vector<VertexXyzDiffuse> verts(mesh.color.size());
     for (size_t i = 0; i < verts.size(); ++i) {
-        verts[i].position = {mesh.xyz[3 * i], mesh.xyz[3 * i + 1], mesh.xyz[3 * i + 2], 1.0f};
+        verts[i].position = {mesh.xyz[3 * i], mesh.xyz[3 * i + 1], mesh.xyz[3 * i + 2]};
         verts[i].diffuse = mesh.color[i];
     }
     // Wall-clock time per frame, as the llvmpipe side measures it (manual time on both
@@ -104,7 +107,7 @@ void runRetroglass(benchmark::State& state, Workload w, int threads) {
     for (auto _ : state) {
         auto t0 = std::chrono::steady_clock::now();
         dev.clear(true, Rgba8{0, 0, 0, 255}, false, 1.0f);
-        dev.draw(Primitive::TriangleList, VertexSpace::Untransformed, verts, mesh.index);
+        dev.draw(Primitive::TriangleList, verts, mesh.index);
         benchmark::DoNotOptimize(dev.framebuffer().color().data());
         state.SetIterationTime(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

@@ -94,7 +94,7 @@ constexpr int kBandStrip = 8;
 }  // namespace
 
 void Device::Impl::drawInBands(const DrawContext& dc, Primitive primitive,
-                               std::span<const Vertex> vertices,
+                               const VertexSource& vertices,
                                std::span<const uint32_t> indices, FastVertex* fastVertices,
                                const glm::mat4& worldViewProj, const glm::mat4& worldView,
                                const glm::mat3& normalMatrix, uint32_t triangles,
@@ -200,7 +200,7 @@ void Device::Impl::drawInBands(const DrawContext& dc, Primitive primitive,
 }
 
 // ---- draw ----------------------------------------------------------------------------
-void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const Vertex> vertices,
+void Device::Impl::draw(Primitive primitive, VertexSpace space, VertexSource source,
                         std::span<const uint32_t> indices) {
     checkEnum(primitive, Primitive::TriangleFan, "primitive type");
     checkEnum(space, VertexSpace::Pretransformed, "vertex space");
@@ -225,11 +225,11 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         chunkMaxIndex.push_back(m);
         maxIndex = std::max(maxIndex, m);
     }
-    if (!indices.empty() && maxIndex >= vertices.size())
+    if (!indices.empty() && maxIndex >= source.size())
         for (uint32_t i : indices)
-            if (i >= vertices.size())
+            if (i >= source.size())
                 throw InvalidState("index " + std::to_string(i) + " is past the " +
-                                   std::to_string(vertices.size()) + " vertices of the draw");
+                                   std::to_string(source.size()) + " vertices of the draw");
     ++counters.drawCalls;
     if (passOpen) ++passes.back().drawCalls;
 
@@ -240,7 +240,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     const glm::mat4 worldViewProj = projection * worldView;
     const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(worldView)));
 
-    const uint32_t vertexCount = uint32_t(indices.empty() ? vertices.size() : indices.size());
+    const uint32_t vertexCount = uint32_t(indices.empty() ? source.size() : indices.size());
     const uint32_t triangles = triangleCount(primitive, vertexCount);
     auto vertexOf = [&](uint32_t k) { return indices.empty() ? k : indices[k]; };
 
@@ -253,13 +253,22 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     // draws, like scratchVertices, so that a large mesh does not page-fault fresh memory
     // on every draw.
     const bool compact = fastPath && compactVertices(dc);
-    if (compact && scratchFastVertices.size() < vertices.size())
-        scratchFastVertices.resize(vertices.size());
+    // D3DFVF_XYZ | D3DFVF_DIFFUSE vertices: the compact records are made from them as they
+    // are; every other path reads Vertex records, toVertex of each.
+    if (!compact && source.full.empty() && !source.xyzDiffuse.empty()) {
+        scratchInput.resize(source.xyzDiffuse.size());
+        std::transform(source.xyzDiffuse.begin(), source.xyzDiffuse.end(), scratchInput.begin(),
+                       [](const VertexXyzDiffuse& v) { return toVertex(v); });
+        source = VertexSource{scratchInput, {}};
+    }
+    const std::span<const Vertex> vertices = source.full;  // (every path but the compact one)
+    if (compact && scratchFastVertices.size() < source.size())
+        scratchFastVertices.resize(source.size());
     FastVertex* const fastVertices = scratchFastVertices.data();
-    if (!compact && processed.size() < vertices.size()) processed.resize(vertices.size());
+    if (!compact && processed.size() < source.size()) processed.resize(source.size());
     auto processRange = [&](size_t b, size_t e) {
         if (compact) {
-            processVerticesCompact(dc, worldViewProj, worldView, normalMatrix, vertices, b, e,
+            processVerticesCompact(dc, worldViewProj, worldView, normalMatrix, source, b, e,
                                    fastVertices);
             return;
         }
@@ -277,7 +286,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     auto setupRange = [&](uint32_t b, uint32_t e, std::vector<SetupTriangle>& out,
                           std::vector<Plane>& texPool, GeometryCounters& gc, auto&& fetch) {
         if (compact) {
-            setupTrianglesCompact(dc, primitive, b, e, indices, vertices, fastVertices,
+            setupTrianglesCompact(dc, primitive, b, e, indices, source, fastVertices,
                                   worldViewProj, worldView, normalMatrix, out, texPool, gc,
                                   !recordsInCache);
             return;
@@ -304,7 +313,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
     GeometryCounters gc;
     RasterCounters rc;
     if (!fastPath) {
-        processRange(0, vertices.size());
+        processRange(0, source.size());
         std::vector<SetupTriangle> tris;
         std::vector<Plane> texPool;
         setupRange(0, triangles, tris, texPool, gc, processedAt);
@@ -360,7 +369,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         } else if (compact && triangles >= kBandMinTriangles && dc.clipX0 < dc.clipX1 &&
                    dc.clipY0 < dc.clipY1 && triangles <= uint32_t(INT32_MAX)) {
             // (The band selection keeps a flag in bit 31 of a triangle number.)
-            drawInBands(dc, primitive, vertices, indices, fastVertices, worldViewProj,
+            drawInBands(dc, primitive, source, indices, fastVertices, worldViewProj,
                         worldView, normalMatrix, triangles, kChunk, gc, rc);
         } else {
         [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
@@ -368,7 +377,7 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, std::span<const 
         arena->execute([&] {
             // Vertices first, in blocks, then the triangle chunks: a barrier is cheaper than
             // an atomic claim per vertex, and the blocks share out evenly.
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, vertices.size(), 2048),
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, source.size(), 2048),
                               [&](const tbb::blocked_range<size_t>& r) {
                                   RG_TSAN_ACQUIRE(&forkJoin);
                                   processRange(r.begin(), r.end());
@@ -522,7 +531,18 @@ void Device::setRecorder(std::shared_ptr<TraceRecorder> recorder) {
 void Device::draw(Primitive primitive, VertexSpace space, std::span<const Vertex> vertices,
                   std::span<const uint32_t> indices) {
     if (impl_->recorder) impl_->recorder->draw(*this, primitive, space, vertices, indices);
-    impl_->draw(primitive, space, vertices, indices);
+    impl_->draw(primitive, space, VertexSource{vertices, {}}, indices);
+}
+
+void Device::draw(Primitive primitive, std::span<const VertexXyzDiffuse> vertices,
+                  std::span<const uint32_t> indices) {
+    if (impl_->recorder) {  // a trace holds Vertex records: the draw this one stands for
+        std::vector<Vertex> full(vertices.size());
+        std::transform(vertices.begin(), vertices.end(), full.begin(),
+                       [](const VertexXyzDiffuse& v) { return toVertex(v); });
+        impl_->recorder->draw(*this, primitive, VertexSpace::Untransformed, full, indices);
+    }
+    impl_->draw(primitive, VertexSpace::Untransformed, VertexSource{{}, vertices}, indices);
 }
 
 Framebuffer& Device::framebuffer() { return impl_->fb; }

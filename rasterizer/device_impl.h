@@ -37,6 +37,7 @@ struct Device::Impl {
     std::vector<detail::FastVertex> scratchFastVertices;  // draws without texture coordinates
     std::vector<detail::TriangleChunk> scratchChunks;
     std::vector<uint32_t> scratchRowSpans;  // drawInBands: rowSpanOf each vertex
+    std::vector<Vertex> scratchInput;       // toVertex of a VertexXyzDiffuse draw's vertices
 
     Impl(const Profile& p, int w, int h, DepthFormat d, DeviceOptions o)
         : profile(p), options(o), fb(checkedFramebuffer(p, w, h, d)) {
@@ -72,11 +73,11 @@ struct Device::Impl {
     }
 
     void validateState() const;
-    void draw(Primitive primitive, VertexSpace space, std::span<const Vertex> vertices,
+    void draw(Primitive primitive, VertexSpace space, detail::VertexSource source,
               std::span<const uint32_t> indices);
     // draw()'s multi-thread path for meshes of FastVertex records (device.cpp).
     void drawInBands(const detail::DrawContext& dc, Primitive primitive,
-                     std::span<const Vertex> vertices, std::span<const uint32_t> indices,
+                     const detail::VertexSource& vertices, std::span<const uint32_t> indices,
                      detail::FastVertex* fastVertices, const glm::mat4& worldViewProj,
                      const glm::mat4& worldView, const glm::mat3& normalMatrix,
                      uint32_t triangles, uint32_t chunk, detail::GeometryCounters& gc,

@@ -250,11 +250,22 @@ inline bool compactVertices(const DrawContext& dc) {
     return dc.space == VertexSpace::Untransformed && dc.numTexSets == 0 &&
            dc.numAttrs == kColorAttrs && dc.subpixelBits <= 8;
 }
+// The vertices of a draw as submitted: Vertex records, or D3DFVF_XYZ | D3DFVF_DIFFUSE
+// ones, which only the compact fast path reads as they are (Device::Impl::draw gives
+// every other path toVertex of each).
+struct VertexSource {
+    std::span<const Vertex> full;
+    std::span<const VertexXyzDiffuse> xyzDiffuse;  // when `full` is empty
+    size_t size() const { return full.empty() ? xyzDiffuse.size() : full.size(); }
+    Vertex at(size_t i) const { return full.empty() ? toVertex(xyzDiffuse[i]) : full[i]; }
+};
+
 // processVerticesFast for a draw where compactVertices(dc): the FastVertex of vertices
-// [begin, end) of `in`, the same values as the fields of processVertexInto's result.
+// [begin, end) of `in`, the same values as the fields of processVertexInto's result for
+// in.at(i).
 void processVerticesCompact(const DrawContext& dc, const glm::mat4& worldViewProj,
                             const glm::mat4& worldView, const glm::mat3& normalMatrix,
-                            std::span<const Vertex> in, size_t begin, size_t end,
+                            const VertexSource& in, size_t begin, size_t end,
                             FastVertex* out);
 // The programmable pipeline (programmable.cpp) reuses clipping and setup: a context for a
 // target of width×height whose `varyingFloats` attributes (from attr[kColorAttrs]) are all
@@ -323,7 +334,7 @@ void setupTrianglesFast(const DrawContext& dc, Primitive primitive, uint32_t beg
 struct RowBand;
 void setupTrianglesCompact(const DrawContext& dc, Primitive primitive, uint32_t begin,
                            uint32_t end, std::span<const uint32_t> indices,
-                           std::span<const Vertex> vertices, const FastVertex* processed,
+                           const VertexSource& vertices, const FastVertex* processed,
                            const glm::mat4& worldViewProj, const glm::mat4& worldView,
                            const glm::mat3& normalMatrix, std::vector<SetupTriangle>& out,
                            std::vector<Plane>& texPool, GeometryCounters& gc,

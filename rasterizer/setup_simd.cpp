@@ -273,7 +273,7 @@ RG_LANES __m128 attr4(const V* v, int a) {
 // stores, measured.)
 template <bool kAvx2, class V>
 RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
-                           const V* const (&tri)[3], const Vertex& provoking,
+                           const V* const (&tri)[3], Rgba8 flatDiffuse, Rgba8 flatSpecular,
                            std::vector<SetupTriangle>& out,
                            std::vector<Plane>& texPool) {
     SetupTriangle& t = out.emplace_back(SetupTriangle::NoInit{});
@@ -341,8 +341,8 @@ RG_LANES void emitTriangle(const DrawContext& dc, const Geometry4& g, int k,
                            pg.dy1, pg.dx2, pg.dy2, pg.invArea);
     }
     // The provoking vertex's bytes matter only for flat shading.
-    t.flatDiffuse = dc.gouraud ? Rgba8{} : provoking.diffuse;
-    t.flatSpecular = dc.gouraud ? Rgba8{} : provoking.specular;
+    t.flatDiffuse = dc.gouraud ? Rgba8{} : flatDiffuse;
+    t.flatSpecular = dc.gouraud ? Rgba8{} : flatSpecular;
 }
 
 // The matrices a FastVertex draw recomputes the ProcessedVertex of a clipped triangle's
@@ -477,10 +477,13 @@ RG_LANES uint32_t selectBand(const DrawContext& dc, const RowBand& band, Primiti
 // box misses its rows are skipped (the band's own clip rect, `dc`, would reject them), and
 // the counters count only the triangles the band owns (RowBand), so that the bands of a
 // draw together count each triangle once, as one setup over the whole clip rect would.
-template <bool kAvx2, class V, bool kIndexedList = false, bool kBanded = false>
+// Vertices: the submitted vertices, a span of Vertex (ProcessedVertex) or a VertexSource
+// (FastVertex, whose records carry the colour bytes: the source is read only to clip).
+template <bool kAvx2, class V, bool kIndexedList = false, bool kBanded = false,
+          class Vertices>
 RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_t begin,
                              uint32_t end, std::span<const uint32_t> indices,
-                             std::span<const Vertex> vertices, const V* processed,
+                             const Vertices& vertices, const V* processed,
                              const Transforms* transforms, std::vector<SetupTriangle>& out,
                              std::vector<Plane>& texPool, GeometryCounters& gc) {
     if constexpr (kIndexedList) primitive = Primitive::TriangleList;
@@ -565,18 +568,27 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
         if (unclipped) setupGeometry4(dc, v, g);
         for (int k = 0; k < n; ++k) {
             GeometryCounters& counts = (owned >> k) & 1 ? gc : notOwned;
+            // The provoking vertex's colours, which only flat shading reads (a FastVertex
+            // record has them; a Vertex is not loaded otherwise).
+            Rgba8 flatD{}, flatS{};
+            if (!dc.gouraud) {
+                if constexpr (std::is_same_v<V, FastVertex>) {
+                    flatD = v[k][0]->diffuse;
+                    flatS = v[k][0]->specular;
+                } else {
+                    flatD = vertices[provoking[k]].diffuse;
+                    flatS = vertices[provoking[k]].specular;
+                }
+            }
             if (unclipped & (1u << k)) {
                 ++counts.submitted;
                 if (g.keep[k]) {
-                    emitTriangle<kAvx2, V>(dc, g, k, v[k], vertices[provoking[k]], out,
-                                           texPool);
+                    emitTriangle<kAvx2, V>(dc, g, k, v[k], flatD, flatS, out, texPool);
                     ++counts.drawn;
                 } else {
                     ++counts.culled;
                 }
             } else {
-                const Rgba8 flatD = dc.gouraud ? Rgba8{} : vertices[provoking[k]].diffuse;
-                const Rgba8 flatS = dc.gouraud ? Rgba8{} : vertices[provoking[k]].specular;
                 if constexpr (std::is_same_v<V, FastVertex>) {
                     // The records hold too little to clip: the vertex stage again, scalar
                     // (the lanes' values, SetupSimd.EightVertexLanesEqualTheScalarVertexStage).
@@ -584,7 +596,8 @@ RG_LANES void setupRangeBody(const DrawContext& dc, Primitive primitive, uint32_
                     const uint32_t idx[3] = {provoking[k], second[k], third[k]};
                     for (int j = 0; j < 3; ++j)
                         processVertexInto(dc, transforms->worldViewProj, transforms->worldView,
-                                          transforms->normalMatrix, vertices[idx[j]], full[j]);
+                                          transforms->normalMatrix, vertices.at(idx[j]),
+                                          full[j]);
                     if constexpr (kBanded) {
                         // What the clipper makes of it may lie in any band, and a piece
                         // outside this band's rows would count as culled: the owner counts
@@ -636,7 +649,7 @@ void setupRangeSse2(const DrawContext& dc, Primitive primitive, uint32_t begin,
 template <bool kAvx2>
 RG_LANES void setupCompactBody(const DrawContext& dc, Primitive primitive, uint32_t begin,
                                uint32_t end, std::span<const uint32_t> indices,
-                               std::span<const Vertex> vertices, const FastVertex* processed,
+                               const VertexSource& vertices, const FastVertex* processed,
                                const Transforms& tr, std::vector<SetupTriangle>& out,
                                std::vector<Plane>& texPool, GeometryCounters& gc) {
     const bool list = primitive == Primitive::TriangleList && !indices.empty();
@@ -658,7 +671,7 @@ RG_LANES void setupCompactBody(const DrawContext& dc, Primitive primitive, uint3
 
 __attribute__((target("avx2"))) void setupCompactAvx2(
     const DrawContext& dc, Primitive primitive, uint32_t begin, uint32_t end,
-    std::span<const uint32_t> indices, std::span<const Vertex> vertices,
+    std::span<const uint32_t> indices, const VertexSource& vertices,
     const FastVertex* processed, const Transforms& tr, std::vector<SetupTriangle>& out,
     std::vector<Plane>& texPool, GeometryCounters& gc) {
     setupCompactBody<true>(dc, primitive, begin, end, indices, vertices, processed, tr, out,
@@ -667,7 +680,7 @@ __attribute__((target("avx2"))) void setupCompactAvx2(
 
 void setupCompactSse2(const DrawContext& dc, Primitive primitive, uint32_t begin,
                       uint32_t end, std::span<const uint32_t> indices,
-                      std::span<const Vertex> vertices, const FastVertex* processed,
+                      const VertexSource& vertices, const FastVertex* processed,
                       const Transforms& tr, std::vector<SetupTriangle>& out,
                       std::vector<Plane>& texPool, GeometryCounters& gc) {
     setupCompactBody<false>(dc, primitive, begin, end, indices, vertices, processed, tr, out,
@@ -692,7 +705,7 @@ void setupTrianglesFast(const DrawContext& dc, Primitive primitive, uint32_t beg
 
 void setupTrianglesCompact(const DrawContext& dc, Primitive primitive, uint32_t begin,
                            uint32_t end, std::span<const uint32_t> indices,
-                           std::span<const Vertex> vertices, const FastVertex* processed,
+                           const VertexSource& vertices, const FastVertex* processed,
                            const glm::mat4& worldViewProj, const glm::mat4& worldView,
                            const glm::mat3& normalMatrix, std::vector<SetupTriangle>& out,
                            std::vector<Plane>& texPool, GeometryCounters& gc, bool prefetch,

@@ -196,13 +196,17 @@ using namespace lanes;
 // outcode dot products summed left to right. No FMA (-ffp-contract=off; the AVX2 target
 // does not include FMA).
 // Out: ProcessedVertex (processVerticesFast) or FastVertex (processVerticesCompact, the
-// same values in the fields it has).
-template <class Out>
-RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex* v, Out* out) {
+// same values in the fields it has). In: Vertex, or for FastVertex also VertexXyzDiffuse
+// (toVertex's values: the same position, diffuse, specular 0).
+template <class Out, class In>
+RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const In* v, Out* out) {
+    static_assert(offsetof(Vertex, position) == 0 && offsetof(VertexXyzDiffuse, position) == 0);
     // The eight positions as four 4×4 transposes of (x, y, z, w) rows, vertex k in lane k:
     // whole-vector loads and shuffles instead of 24 loads into single lanes.
     F32x4 pos[8];
-    for (int k = 0; k < 8; ++k) std::memcpy(&pos[k], &v[k].position, sizeof(F32x4));
+    // (The fourth float is w, or VertexXyzDiffuse's colour bits: the transform reads
+    // neither.)
+    for (int k = 0; k < 8; ++k) std::memcpy(&pos[k], &v[k], sizeof(F32x4));
     const F32x8 r0 = __builtin_shufflevector(pos[0], pos[4], 0, 1, 2, 3, 4, 5, 6, 7);
     const F32x8 r1 = __builtin_shufflevector(pos[1], pos[5], 0, 1, 2, 3, 4, 5, 6, 7);
     const F32x8 r2 = __builtin_shufflevector(pos[2], pos[6], 0, 1, 2, 3, 4, 5, 6, 7);
@@ -264,10 +268,10 @@ RG_LANES void vertices8(const DrawContext& dc, const glm::mat4& m, const Vertex*
         const I32x8 cSx = __builtin_shufflevector(sxLo, sxHi, 0, 1, 2, 3, 4, 5, 6, 7) & valid;
         const I32x8 cSy = __builtin_shufflevector(syLo, syHi, 0, 1, 2, 3, 4, 5, 6, 7) & valid;
         const I32x8 cWz = (I32x8)wz & valid, cW = (I32x8)invW & valid;
-        int32_t diffuse[8], specular[8];
+        int32_t diffuse[8], specular[8] = {};
         for (int k = 0; k < 8; ++k) {
             std::memcpy(&diffuse[k], &v[k].diffuse, 4);
-            std::memcpy(&specular[k], &v[k].specular, 4);
+            if constexpr (std::is_same_v<In, Vertex>) std::memcpy(&specular[k], &v[k].specular, 4);
         }
         I32x8 cD, cS;
         std::memcpy(&cD, diffuse, sizeof cD);
@@ -349,27 +353,30 @@ void compactFrom(const ProcessedVertex& p, const Vertex& v, FastVertex& f) {
 template <bool kAvx2>
 RG_LANES void compactBody(const DrawContext& dc, const glm::mat4& worldViewProj,
                           const glm::mat4& worldView, const glm::mat3& normalMatrix,
-                          std::span<const Vertex> in, size_t begin, size_t end,
-                          FastVertex* out) {
+                          const VertexSource& in, size_t begin, size_t end, FastVertex* out) {
     size_t i = begin;
-    for (; i + 8 <= end; i += 8) vertices8(dc, worldViewProj, &in[i], &out[i]);
+    if (!in.full.empty())
+        for (; i + 8 <= end; i += 8) vertices8(dc, worldViewProj, &in.full[i], &out[i]);
+    else
+        for (; i + 8 <= end; i += 8) vertices8(dc, worldViewProj, &in.xyzDiffuse[i], &out[i]);
     for (; i < end; ++i) {
+        const Vertex v = in.at(i);
         ProcessedVertex p;
-        processVertexInto(dc, worldViewProj, worldView, normalMatrix, in[i], p);
-        compactFrom(p, in[i], out[i]);
+        processVertexInto(dc, worldViewProj, worldView, normalMatrix, v, p);
+        compactFrom(p, v, out[i]);
     }
 }
 
 __attribute__((target("avx2"))) void compactAvx2(
     const DrawContext& dc, const glm::mat4& worldViewProj, const glm::mat4& worldView,
-    const glm::mat3& normalMatrix, std::span<const Vertex> in, size_t begin, size_t end,
+    const glm::mat3& normalMatrix, const VertexSource& in, size_t begin, size_t end,
     FastVertex* out) {
     compactBody<true>(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
 }
 
 void compactSse2(const DrawContext& dc, const glm::mat4& worldViewProj,
                  const glm::mat4& worldView, const glm::mat3& normalMatrix,
-                 std::span<const Vertex> in, size_t begin, size_t end, FastVertex* out) {
+                 const VertexSource& in, size_t begin, size_t end, FastVertex* out) {
     compactBody<false>(dc, worldViewProj, worldView, normalMatrix, in, begin, end, out);
 }
 
@@ -401,7 +408,7 @@ void processVerticesFast(const DrawContext& dc, const glm::mat4& worldViewProj,
 
 void processVerticesCompact(const DrawContext& dc, const glm::mat4& worldViewProj,
                             const glm::mat4& worldView, const glm::mat3& normalMatrix,
-                            std::span<const Vertex> in, size_t begin, size_t end,
+                            const VertexSource& in, size_t begin, size_t end,
                             FastVertex* out) {
     static const bool avx2 = haveAvx2();
     if (avx2)

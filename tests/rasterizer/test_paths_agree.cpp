@@ -442,6 +442,97 @@ TEST(PathsAgree, MeshesDrawnInBandsOfRowsGiveIdenticalBytesAndCounters) {
     EXPECT_GT(sum.trianglesInvalid, 0u);
 }
 
+// D3DFVF_XYZ | D3DFVF_DIFFUSE vertices draw what toVertex of each draws: the reference
+// path fed Vertex records against the fast path fed the 16-byte records directly (the
+// compact vertex pass, its clipping fallback, flat colours from the records; meshes large
+// enough for bands) and against the reference path fed the 16-byte records (converted).
+TEST(PathsAgree, XyzDiffuseVerticesDrawWhatTheirVerticesDraw) {
+    tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 4);
+    int draws = 0;
+    Counters sum;
+    for (uint64_t seed = 1; seed <= 16 && !HasFatalFailure(); ++seed) {
+        Rng r(9300 + seed);
+        const int w = r.i(16, 160), h = r.i(16, 120);
+        const DepthFormat fmt = DepthFormat(r.i(0, 2));
+        const int threads = r.i(1, 4);
+        Device refFull(profile(ProfileId::GeForce256), w, h, fmt, {Path::Reference, 1});
+        Device refXyz(profile(ProfileId::GeForce256), w, h, fmt, {Path::Reference, 1});
+        Device fastXyz(profile(ProfileId::GeForce256), w, h, fmt, {Path::Fast, threads});
+        const Rgba8 background{r.byte(), r.byte(), r.byte(), r.byte()};
+        for (Device* d : {&refFull, &refXyz, &fastXyz}) d->clear(true, background, true, 1.0f);
+        for (int k = 0; k < 6; ++k, ++draws) {
+            const PipelineState s = randomState(r);
+            const bool perspective = r.p(0.5);
+            // Small random draws, or a grid of more than 4,096 triangles.
+            const bool mesh = r.p(0.4);
+            const int gx = r.i(24, 80), gy = 2048 / gx + r.i(1, 16);
+            std::vector<VertexXyzDiffuse> xyz;
+            std::vector<uint32_t> indices;
+            Primitive prim = Primitive(r.i(0, 2));
+            if (mesh) {
+                prim = Primitive::TriangleList;
+                const float cell = perspective ? 4.0f / float(gx) : r.f(0.5f, 2.5f);
+                for (int j = 0; j <= gy; ++j)
+                    for (int i = 0; i <= gx; ++i) {
+                        VertexXyzDiffuse v;
+                        const float x = cell * (float(i) + r.f(-0.3f, 0.3f)), y = cell * (float(j) + r.f(-0.3f, 0.3f));
+                        v.position = perspective ? glm::vec3(x - 2.0f, y - 2.0f, r.p(0.02) ? r.f(-3.5f, -2.4f) : r.f(-1.0f, 2.0f))
+                                                 : glm::vec3(x - 10.0f, y - 10.0f, r.f(0.0f, 1.0f));
+                        v.diffuse = randomColor(r);
+                        xyz.push_back(v);
+                    }
+                for (int j = 0; j < gy; ++j)
+                    for (int i = 0; i < gx; ++i) {
+                        const uint32_t a = uint32_t(j * (gx + 1) + i), b = a + 1,
+                                       c = a + uint32_t(gx) + 1, d = c + 1;
+                        indices.insert(indices.end(), {a, b, d, a, d, c});
+                    }
+            } else {
+                const int n = r.i(3, 40);
+                for (int i = 0; i < n; ++i) {
+                    VertexXyzDiffuse v;
+                    v.position = perspective ? glm::vec3(r.f(-2.5f, 2.5f), r.f(-2.5f, 2.5f), r.f(-4.0f, 4.0f))
+                                             : glm::vec3(r.f(-10.0f, float(w) + 10.0f), r.f(-10.0f, float(h) + 10.0f), r.f(-0.2f, 1.2f));
+                    v.diffuse = randomColor(r);
+                    xyz.push_back(v);
+                }
+                if (r.p(0.3))
+                    for (int i = 0; i < r.i(3, 30); ++i) indices.push_back(uint32_t(r.i(0, n - 1)));
+            }
+            if (r.p(0.2)) xyz[size_t(r.i(0, int(xyz.size()) - 1))].position.x = weird(r);
+            std::vector<Vertex> full(xyz.size());
+            for (size_t i = 0; i < xyz.size(); ++i) full[i] = toVertex(xyz[i]);
+            const glm::mat4 view = perspective
+                                       ? glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 3.0f))
+                                       : glm::mat4(1.0f);
+            const glm::mat4 proj =
+                perspective ? glm::perspectiveLH_ZO(1.0f, float(w) / float(h), 0.5f, 20.0f)
+                            : glm::orthoLH_ZO(0.0f, float(w), float(h), 0.0f, 0.0f, 1.0f);
+            const Rect scissor{r.i(-5, w / 2), r.i(-5, h / 2), r.i(0, w), r.i(0, h)};
+            for (Device* d : {&refFull, &refXyz, &fastXyz}) {
+                d->setState(s);
+                d->setScissor(scissor);
+                d->setTransforms(glm::mat4(1.0f), view, proj);
+            }
+            refFull.draw(prim, VertexSpace::Untransformed, full, indices);
+            refXyz.draw(prim, xyz, indices);
+            fastXyz.draw(prim, xyz, indices);
+            const std::string where = "seed " + std::to_string(seed) + " draw " +
+                                      std::to_string(k) + " (" + std::to_string(threads) +
+                                      " threads" + (mesh ? ", mesh" : "") + ")";
+            ASSERT_TRUE(sameFrameAndCounters(refFull, fastXyz, where + ", fast path"));
+            ASSERT_TRUE(sameFrameAndCounters(refFull, refXyz, where + ", reference path"));
+            sum.trianglesDrawn += refFull.counters().trianglesDrawn;
+            sum.trianglesClipped += refFull.counters().trianglesClipped;
+            sum.trianglesInvalid += refFull.counters().trianglesInvalid;
+        }
+    }
+    EXPECT_EQ(draws, 96);
+    EXPECT_GT(sum.trianglesDrawn, 50000u);
+    EXPECT_GT(sum.trianglesClipped, 10u);
+    EXPECT_GT(sum.trianglesInvalid, 0u);
+}
+
 // The same frame from the fast path on 1, 2, 3 and 8 threads and from the reference path:
 // one SHA-256, one set of counters.
 const char* const kPinnedHashes[3] = {

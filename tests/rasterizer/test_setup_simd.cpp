@@ -413,8 +413,8 @@ TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
         for (size_t k = 0; k < verts.size(); ++k) processVertexInto(dc, m, wv, nm, verts[k], pv[k]);
         std::vector<FastVertex> fv(verts.size());
         const size_t vsplit = size_t(r.i64(0, n));
-        processVerticesCompact(dc, m, wv, nm, verts, 0, vsplit, fv.data());
-        processVerticesCompact(dc, m, wv, nm, verts, vsplit, verts.size(), fv.data());
+        processVerticesCompact(dc, m, wv, nm, VertexSource{verts, {}}, 0, vsplit, fv.data());
+        processVerticesCompact(dc, m, wv, nm, VertexSource{verts, {}}, vsplit, verts.size(), fv.data());
         for (size_t k = 0; k < verts.size(); ++k) {
             const ProcessedVertex& a = pv[k];
             const FastVertex& b = fv[k];
@@ -443,9 +443,9 @@ TEST(SetupSimd, CompactVertexRecordsGiveTheReferenceSetup) {
         GeometryCounters refGc, fastGc;
         referenceSetup(dc, prim, triangles, indices, verts, pv.data(), ref, refPool, refGc);
         const uint32_t split = triangles ? uint32_t(r.i64(0, triangles)) : 0;
-        setupTrianglesCompact(dc, prim, 0, split, indices, verts, fv.data(), m, wv, nm, fast,
+        setupTrianglesCompact(dc, prim, 0, split, indices, VertexSource{verts, {}}, fv.data(), m, wv, nm, fast,
                               fastPool, fastGc);
-        setupTrianglesCompact(dc, prim, split, triangles, indices, verts, fv.data(), m, wv, nm,
+        setupTrianglesCompact(dc, prim, split, triangles, indices, VertexSource{verts, {}}, fv.data(), m, wv, nm,
                               fast, fastPool, fastGc);
         ASSERT_NO_FATAL_FAILURE(expectSameSetup(ref, fast, refGc, fastGc, where));
         ASSERT_EQ(refPool.size(), fastPool.size()) << where;

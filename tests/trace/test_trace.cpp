@@ -70,6 +70,33 @@ TEST(TraceReader, SingleByteCorruptionsParseOrRaiseTraceError) {
         }
 }
 
+// A draw of D3DFVF_XYZ | D3DFVF_DIFFUSE vertices goes into a trace as the Vertex draw it
+// stands for, and replays to the same bytes.
+TEST(TraceRecorder, XyzDiffuseDrawsAreRecordedAsTheirVertices) {
+    const Profile& p = profile(ProfileId::GeForce256);
+    Device dev(p, 16, 16, DepthFormat::None, {Path::Fast, 1});
+    auto rec = std::make_shared<TraceRecorder>();
+    dev.setRecorder(rec);
+    PipelineState s;
+    s.cull = CullMode::None;
+    dev.setState(s);
+    dev.setTransforms(glm::mat4(1.0f), glm::mat4(1.0f),
+                      glm::mat4(glm::vec4(0.125f, 0, 0, 0), glm::vec4(0, -0.125f, 0, 0),
+                                glm::vec4(0, 0, 1, 0), glm::vec4(-1, 1, 0, 1)));
+    const std::vector<VertexXyzDiffuse> tri = {{{1, 1, 0.5f}, {255, 0, 0, 255}},
+                                               {{15, 2, 0.5f}, {0, 255, 0, 255}},
+                                               {{3, 14, 0.5f}, {0, 0, 255, 255}}};
+    dev.draw(Primitive::TriangleList, tri);
+    dev.setRecorder(nullptr);
+    rec->finish();
+    const Trace trace = readTrace(rec->bytes());
+    const std::string hash = framebufferHash(dev.framebuffer());
+    EXPECT_EQ(framebufferHash(replayTrace(trace).framebuffer), hash);
+    // Not the untouched target: the triangle drew.
+    Device blank(p, 16, 16, DepthFormat::None, {Path::Fast, 1});
+    EXPECT_NE(framebufferHash(blank.framebuffer()), hash);
+}
+
 TEST(TraceRecorder, TexturesAreStoredOncePerContent) {
     const Profile& p = profile(ProfileId::GeForce256);
     Device dev(p, 8, 8, DepthFormat::None, {Path::Reference, 1});

@@ -102,6 +102,10 @@ class Device {
     // (NaN/Inf) drop their triangles and count in trianglesInvalid.
     void draw(Primitive primitive, VertexSpace space, std::span<const Vertex> vertices,
               std::span<const uint32_t> indices = {});
+    // The same draw of untransformed D3DFVF_XYZ | D3DFVF_DIFFUSE vertices (toVertex of
+    // each): the same bytes and counters, a trace records it as that Vertex draw.
+    void draw(Primitive primitive, std::span<const VertexXyzDiffuse> vertices,
+              std::span<const uint32_t> indices = {});
     // Pixel transfer: writes `pixels` (width×height, rows top to bottom) at window (x, y)
     // through the pixel-transfer stage (SGIX_pixel_texture when enabled).
     void drawPixels(int x, int y, int width, int height, std::span<const Rgba8> pixels);
