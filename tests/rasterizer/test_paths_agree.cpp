@@ -123,6 +123,27 @@ bool sameCounters(const Counters& a, const Counters& b) {
            a.bytesReadBack == b.bytesReadBack;
 }
 
+// The two triangles of each cell of a grid of gx × gy cells whose (gx + 1) × (gy + 1)
+// vertices are numbered row by row: (a, b, d) and (a, d, c) with b right of a, c below.
+std::vector<uint32_t> gridTriangles(int gx, int gy) {
+    std::vector<uint32_t> indices;
+    for (int j = 0; j < gy; ++j)
+        for (int i = 0; i < gx; ++i) {
+            const uint32_t a = uint32_t(j * (gx + 1) + i), b = a + 1, c = a + uint32_t(gx) + 1,
+                           d = c + 1;
+            indices.insert(indices.end(), {a, b, d, a, d, c});
+        }
+    return indices;
+}
+
+// The geometry counters of `c` added to `sum`.
+void addGeometry(Counters& sum, const Counters& c) {
+    sum.trianglesDrawn += c.trianglesDrawn;
+    sum.trianglesCulled += c.trianglesCulled;
+    sum.trianglesClipped += c.trianglesClipped;
+    sum.trianglesInvalid += c.trianglesInvalid;
+}
+
 // The colour and depth bytes and the counters of the two devices, or where they differ.
 ::testing::AssertionResult sameFrameAndCounters(const Device& ref, const Device& fast,
                                                 const std::string& where) {
@@ -374,13 +395,7 @@ TEST(PathsAgree, MeshesDrawnInBandsOfRowsGiveIdenticalBytesAndCounters) {
                 }
             if (r.p(0.2)) verts[size_t(r.i(0, int(verts.size()) - 1))].position.y = weird(r);
             if (r.p(0.2)) verts[size_t(r.i(0, int(verts.size()) - 1))].position.x = r.f(-1e5f, 1e5f);
-            std::vector<uint32_t> indices;
-            for (int j = 0; j < gy; ++j)
-                for (int i = 0; i < gx; ++i) {
-                    const uint32_t a = uint32_t(j * (gx + 1) + i), b = a + 1,
-                                   c = a + uint32_t(gx) + 1, d = c + 1;
-                    indices.insert(indices.end(), {a, b, d, a, d, c});
-                }
+            std::vector<uint32_t> indices = gridTriangles(gx, gy);
             Primitive prim = Primitive::TriangleList;
             const int order = r.i(0, 9);
             if (order >= 6 && order <= 7) {  // the triangles in random order
@@ -428,10 +443,7 @@ TEST(PathsAgree, MeshesDrawnInBandsOfRowsGiveIdenticalBytesAndCounters) {
                                       std::to_string(k) + " (" + std::to_string(threads) +
                                       " threads, order " + std::to_string(order) + ")";
             ASSERT_TRUE(sameFrameAndCounters(ref, fast, where));
-            sum.trianglesDrawn += ref.counters().trianglesDrawn;
-            sum.trianglesCulled += ref.counters().trianglesCulled;
-            sum.trianglesClipped += ref.counters().trianglesClipped;
-            sum.trianglesInvalid += ref.counters().trianglesInvalid;
+            addGeometry(sum, ref.counters());
         }
     }
     EXPECT_EQ(draws, 96);
@@ -481,12 +493,7 @@ TEST(PathsAgree, XyzDiffuseVerticesDrawWhatTheirVerticesDraw) {
                         v.diffuse = randomColor(r);
                         xyz.push_back(v);
                     }
-                for (int j = 0; j < gy; ++j)
-                    for (int i = 0; i < gx; ++i) {
-                        const uint32_t a = uint32_t(j * (gx + 1) + i), b = a + 1,
-                                       c = a + uint32_t(gx) + 1, d = c + 1;
-                        indices.insert(indices.end(), {a, b, d, a, d, c});
-                    }
+                indices = gridTriangles(gx, gy);
             } else {
                 const int n = r.i(3, 40);
                 for (int i = 0; i < n; ++i) {
@@ -522,9 +529,7 @@ TEST(PathsAgree, XyzDiffuseVerticesDrawWhatTheirVerticesDraw) {
                                       " threads" + (mesh ? ", mesh" : "") + ")";
             ASSERT_TRUE(sameFrameAndCounters(refFull, fastXyz, where + ", fast path"));
             ASSERT_TRUE(sameFrameAndCounters(refFull, refXyz, where + ", reference path"));
-            sum.trianglesDrawn += refFull.counters().trianglesDrawn;
-            sum.trianglesClipped += refFull.counters().trianglesClipped;
-            sum.trianglesInvalid += refFull.counters().trianglesInvalid;
+            addGeometry(sum, refFull.counters());
         }
     }
     EXPECT_EQ(draws, 96);
