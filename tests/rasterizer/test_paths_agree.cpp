@@ -15,6 +15,7 @@
 #include <limits>
 #include <random>
 #include <sstream>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <tbb/global_control.h>
@@ -134,6 +135,16 @@ std::vector<uint32_t> gridTriangles(int gx, int gy) {
             indices.insert(indices.end(), {a, b, d, a, d, c});
         }
     return indices;
+}
+
+// The view and projection of the mesh tests: a perspective camera at z = −3 with its
+// near plane at 0.5 (z < −2.5 is clipped, z < −3 behind the eye), or window pixels with y
+// down.
+std::pair<glm::mat4, glm::mat4> meshCamera(bool perspective, int w, int h) {
+    if (perspective)
+        return {glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 3.0f)),
+                glm::perspectiveLH_ZO(1.0f, float(w) / float(h), 0.5f, 20.0f)};
+    return {glm::mat4(1.0f), glm::orthoLH_ZO(0.0f, float(w), float(h), 0.0f, 0.0f, 1.0f)};
 }
 
 // The geometry counters of `c` added to `sum`.
@@ -426,12 +437,7 @@ TEST(PathsAgree, MeshesDrawnInBandsOfRowsGiveIdenticalBytesAndCounters) {
                 vp.height = r.i(1, h - vp.y);
             }
             const Rect scissor{r.i(-5, w / 2), r.i(-5, h / 2), r.i(0, w), r.i(0, h)};
-            const glm::mat4 view = perspective
-                                       ? glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 3.0f))
-                                       : glm::mat4(1.0f);
-            const glm::mat4 proj =
-                perspective ? glm::perspectiveLH_ZO(1.0f, float(w) / float(h), 0.5f, 20.0f)
-                            : glm::orthoLH_ZO(0.0f, float(w), float(h), 0.0f, 0.0f, 1.0f);
+            const auto [view, proj] = meshCamera(perspective, w, h);
             for (Device* d : {&ref, &fast}) {
                 d->setState(s);
                 d->setViewport(vp);
@@ -509,12 +515,7 @@ TEST(PathsAgree, XyzDiffuseVerticesDrawWhatTheirVerticesDraw) {
             if (r.p(0.2)) xyz[size_t(r.i(0, int(xyz.size()) - 1))].position.x = weird(r);
             std::vector<Vertex> full(xyz.size());
             for (size_t i = 0; i < xyz.size(); ++i) full[i] = toVertex(xyz[i]);
-            const glm::mat4 view = perspective
-                                       ? glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 3.0f))
-                                       : glm::mat4(1.0f);
-            const glm::mat4 proj =
-                perspective ? glm::perspectiveLH_ZO(1.0f, float(w) / float(h), 0.5f, 20.0f)
-                            : glm::orthoLH_ZO(0.0f, float(w), float(h), 0.0f, 0.0f, 1.0f);
+            const auto [view, proj] = meshCamera(perspective, w, h);
             const Rect scissor{r.i(-5, w / 2), r.i(-5, h / 2), r.i(0, w), r.i(0, h)};
             for (Device* d : {&refFull, &refXyz, &fastXyz}) {
                 d->setState(s);
