@@ -1,9 +1,8 @@
 // raycore benchmarks: Mrays/s of our ray casting path (rg::ray::Accel: ray set-up, Embree
 // traversal, hit resolved to a SurfacePoint — what every tracer does per ray; single rays
-// in one call, Accel::intersectSurface; packets and streams resolve their hits as a batch:
-// Accel::surfaces, Accel::intersectStreamSurfaces)
-// beside a bare
-// Embree loop on the very same rays with no shading, in the same run.
+// each traversed alone and resolved 16 at a time, Accel::intersectSurfaces; packets and
+// streams resolve their hits as a batch: Accel::surfaces, Accel::intersectStreamSurfaces)
+// beside a bare Embree loop on the very same rays with no shading, in the same run.
 // Names follow bench/harness.h: <workload>/<retroglass|embree>/<layout>/threads:N, with
 //   workload  primary_coherent      camera rays of the teapot-in-room scene (640×480, view 0
 //                                   of the "circle" path; packets are 4×2 / 4×4 pixel tiles)
@@ -112,14 +111,15 @@ void runRetroglass(benchmark::State& state, bool secondary, Layout layout, int t
         forChunks(rays.size(), threads, [&](size_t begin, size_t end) {
             float sink = 0.0f;
             if (layout == Layout::Single) {
-                // Traced and resolved in one call, the Hit kept beside the point
-                // (Accel::intersectSurface), as the PEM layers and the two-term tracer's
-                // primary rays do.
-                for (size_t i = begin; i < end; ++i) {
-                    Hit h;
-                    const rg::ray::SurfacePoint s = accel.intersectSurface(rays[i], h);
-                    if (h.valid()) sink += s.ns.x;
-                }
+                // Each ray traversed alone by rtcIntersect1 and resolved with its Hit kept
+                // beside the point, in groups of 16 (Accel::intersectSurfaces), as the PEM
+                // layers and the two-term tracer do with a row of camera rays. Output kept
+                // per thread, as for streams.
+                static thread_local std::vector<rg::ray::SurfacePoint> points(256);
+                static thread_local std::vector<Hit> hits(256);
+                accel.intersectSurfaces(&rays[begin], points.data(), end - begin, hits.data());
+                for (size_t i = 0; i < end - begin; ++i)
+                    if (hits[i].valid()) sink += points[i].ns.x;
             } else if (layout == Layout::Stream) {
                 // A stream traced and its hits resolved as a batch straight from Embree's
                 // records (Accel::intersectStreamSurfaces), as a tracer consuming a stream

@@ -79,6 +79,20 @@ PemLayerImages renderPemLayers(const Accel& accel, const Camera& camera, const R
         return -1;
     };
     parallelRows(o, [&](int y, RayCounts& counts) {
+        // The row's camera rays first, traversed one by one and resolved in groups
+        // (Accel::intersectSurfaces: the same Hit and point as intersectSurface of each).
+        const size_t perPixel = size_t(n) * size_t(n), rowRays = size_t(o.width) * perPixel;
+        std::vector<Ray> rays(rowRays);
+        std::vector<Hit> hits(rowRays);
+        std::vector<SurfacePoint> points(rowRays);
+        for (int x = 0; x < o.width; ++x)
+            for (int sy = 0; sy < n; ++sy)
+                for (int sx = 0; sx < n; ++sx) {
+                    glm::vec2 f = samplePosition(x, y, sx, sy, n);
+                    rays[size_t(x) * perPixel + size_t(sy * n + sx)] =
+                        primaryRay(camera, o.width, o.height, f.x, f.y);
+                }
+        accel.intersectSurfaces(rays.data(), points.data(), rowRays, hits.data());
         std::vector<Accum> acc(segments.size());
         for (int x = 0; x < o.width; ++x) {
             std::fill(acc.begin(), acc.end(), Accum{});
@@ -86,11 +100,11 @@ PemLayerImages renderPemLayers(const Accel& accel, const Camera& camera, const R
             int centreSegment = -1;
             for (int sy = 0; sy < n; ++sy)
                 for (int sx = 0; sx < n; ++sx) {
-                    glm::vec2 f = samplePosition(x, y, sx, sy, n);
-                    Ray ray = primaryRay(camera, o.width, o.height, f.x, f.y);
+                    const size_t i = size_t(x) * perPixel + size_t(sy * n + sx);
+                    const Ray& ray = rays[i];
+                    const Hit& hit = hits[i];
+                    const SurfacePoint& s = points[i];
                     counts.add(RayKind::Primary);
-                    Hit hit;
-                    SurfacePoint s = accel.intersectSurface(ray, hit);
                     int k = hit.valid() ? segmentOf(s) : -1;
                     if (sx == n / 2 && sy == n / 2) centreSegment = k;
                     if (k < 0) {

@@ -86,9 +86,14 @@ void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEv
 
 TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, int maxDepth,
                            RayCounts& counts) {
-    TwoTermSample out;
     Hit hit;
-    SurfacePoint s = accel.intersectSurface(primary, hit);
+    const SurfacePoint s = accel.intersectSurface(primary, hit);
+    return traceTwoTerm(accel, primary, hit, s, maxDepth, counts);
+}
+
+TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, const Hit& hit,
+                           const SurfacePoint& s, int maxDepth, RayCounts& counts) {
+    TwoTermSample out;
     if (!hit.valid()) {
         out.direct = accel.scene().environment.lookup(primary.dir);
         return out;
@@ -150,6 +155,20 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
     const int n = std::max(1, o.spp);
     const float inv = 1.0f / float(n * n);
     parallelRows(o, [&](int y, RayCounts& counts) {
+        // The row's camera rays first, traversed one by one and resolved in groups
+        // (Accel::intersectSurfaces: the same Hit and point as intersectSurface of each).
+        const size_t perPixel = size_t(n) * size_t(n), rowRays = size_t(o.width) * perPixel;
+        std::vector<Ray> rays(rowRays);
+        std::vector<Hit> hits(rowRays);
+        std::vector<SurfacePoint> points(rowRays);
+        for (int x = 0; x < o.width; ++x)
+            for (int sy = 0; sy < n; ++sy)
+                for (int sx = 0; sx < n; ++sx) {
+                    glm::vec2 f = samplePosition(x, y, sx, sy, n);
+                    rays[size_t(x) * perPixel + size_t(sy * n + sx)] =
+                        primaryRay(camera, o.width, o.height, f.x, f.y);
+                }
+        accel.intersectSurfaces(rays.data(), points.data(), rowRays, hits.data());
         std::vector<glm::vec3> dirsR, dirsT;
         for (int x = 0; x < o.width; ++x) {
             glm::vec3 termR(0.0f), termT(0.0f), fgR(0.0f), fgT(0.0f), radR(0.0f), radT(0.0f),
@@ -158,10 +177,9 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
             dirsT.clear();
             for (int sy = 0; sy < n; ++sy)
                 for (int sx = 0; sx < n; ++sx) {
-                    glm::vec2 f = samplePosition(x, y, sx, sy, n);
-                    Ray ray = primaryRay(camera, o.width, o.height, f.x, f.y);
+                    const size_t i = size_t(x) * perPixel + size_t(sy * n + sx);
                     counts.add(RayKind::Primary);
-                    TwoTermSample s = traceTwoTerm(accel, ray, o.maxDepth, counts);
+                    TwoTermSample s = traceTwoTerm(accel, rays[i], hits[i], points[i], o.maxDepth, counts);
                     direct += s.direct;
                     if (s.reflect.valid) {
                         glm::vec3 fg = s.reflect.F * s.reflect.G;

@@ -338,18 +338,15 @@ TEST(Accel, StreamSurfacesMatchStreamThenSurface) {
     }
 }
 
-// intersectSurface (trace and resolve from Embree's record in one call; with the Hit too)
-// against intersect() then surface(), bit for bit: camera rays, random rays from inside and around the room
-// every way (front and back faces, every part), rays from far outside pointing away
-// (misses), and rays with a random short tfar (hits cut off, so misses of every kind).
-TEST(Accel, IntersectSurfaceMatchesIntersectThenSurface) {
-    Scene s = makeBuiltinScene("teapot-in-room");
-    Accel accel(s);
+// Camera rays, random rays from inside and around the room every way (front and back
+// faces, every part), rays from far outside pointing away (misses), and rays with a random
+// short tfar (hits cut off, so misses of every kind).
+std::vector<Ray> mixedRoomRays(const Scene& s, uint32_t seed) {
     const Camera cam = s.viewpointPaths[0].at(0);
     std::vector<Ray> rays;
     for (int y = 0; y < 30; ++y)
         for (int x = 0; x < 40; ++x) rays.push_back(primaryRay(cam, 40, 30, x + 0.5f, y + 0.5f));
-    uint32_t state = 4242u;
+    uint32_t state = seed;
     auto bits = [&] {  // xorshift: fixed sequence
         state ^= state << 13, state ^= state >> 17, state ^= state << 5;
         return state;
@@ -366,6 +363,15 @@ TEST(Accel, IntersectSurfaceMatchesIntersectThenSurface) {
         if (i % 7 == 0) r.tfar = 2.0f * unit();
         rays.push_back(r);
     }
+    return rays;
+}
+
+// intersectSurface (trace and resolve from Embree's record in one call; with the Hit too)
+// against intersect() then surface(), bit for bit, on mixedRoomRays.
+TEST(Accel, IntersectSurfaceMatchesIntersectThenSurface) {
+    Scene s = makeBuiltinScene("teapot-in-room");
+    Accel accel(s);
+    const std::vector<Ray> rays = mixedRoomRays(s, 4242u);
     int misses = 0, back = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
         const Hit h = accel.intersect(rays[i]);
@@ -382,6 +388,47 @@ TEST(Accel, IntersectSurfaceMatchesIntersectThenSurface) {
     }
     EXPECT_GT(misses, 100) << "misses not exercised";
     EXPECT_GT(back, 100) << "back faces not exercised";
+}
+
+
+// intersectSurfaces (rays traversed one by one, resolved in groups) against
+// intersectSurface of each ray, bit for bit, Hit and point, on mixedRoomRays: the whole
+// set and counts around the group size, starting inside a group; with and without the
+// Hit output. Under Accel.WithoutAvx2 the groups take the SSE2 kernel.
+TEST(Accel, IntersectSurfacesMatchIntersectSurfaceOfEachRay) {
+    Scene s = makeBuiltinScene("teapot-in-room");
+    Accel accel(s);
+    const std::vector<Ray> rays = mixedRoomRays(s, 9001u);
+    const size_t group = Accel::kSurfaceGroup;
+    for (size_t count : {rays.size(), size_t(1), group - 1, group, group + 1, 3 * group + 5}) {
+        for (bool withHits : {true, false}) {
+            SCOPED_TRACE(std::to_string(count) + " rays, " + (withHits ? "with" : "without") + " hits");
+            const size_t offset = count == rays.size() ? 0 : 7;
+            std::vector<SurfacePoint> points(count + 1);
+            std::vector<Hit> hits(count + 1);
+            for (Hit& h : hits) h.t = -1.0f;  // each must be overwritten, on a miss too
+            points.back().object = hits.back().object = 0xdeadbeefu;
+            accel.intersectSurfaces(rays.data() + offset, points.data(), count,
+                                    withHits ? hits.data() : nullptr);
+            EXPECT_EQ(points.back().object, 0xdeadbeefu) << "wrote past the end";
+            EXPECT_EQ(hits.back().object, 0xdeadbeefu) << "wrote past the end";
+            int misses = 0, back = 0;
+            for (size_t i = 0; i < count; ++i) {
+                Hit h;
+                const SurfacePoint a = accel.intersectSurface(rays[offset + i], h);
+                if (withHits) {
+                    EXPECT_EQ(std::memcmp(&h, &hits[i], sizeof h), 0) << i;  // no padding
+                }
+                misses += !h.valid();
+                back += h.valid() && !a.frontFace;
+                expectSameSurface(a, points[i], i);
+            }
+            if (count == rays.size()) {
+                EXPECT_GT(misses, 100) << "misses not exercised";
+                EXPECT_GT(back, 100) << "back faces not exercised";
+            }
+        }
+    }
 }
 
 }  // namespace

@@ -42,6 +42,10 @@ struct TwoTermSample {
 // Traces the model for one primary ray.
 TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, int maxDepth,
                            RayCounts& counts);
+// The same for a primary ray already traced: `hit` and `s` are what
+// accel.intersectSurface(primary, hit) gives (Accel::intersectSurfaces for many at once).
+TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, const Hit& hit,
+                           const SurfacePoint& s, int maxDepth, RayCounts& counts);
 
 struct TwoTermImages {
     Image reflectTerm, refractTerm;    // R·F_R·G_R and T·F_T·G_T (RGB, sample averages)
