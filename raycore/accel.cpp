@@ -296,7 +296,7 @@ void Accel::intersectStreamSurfaces(const Ray* rays, SurfacePoint* out, size_t c
     static const bool avx2 = avx2Available();
     traceStream(rtcScene_, rays, count, coherent, [&](const RTCRayHit* rh, size_t begin, size_t n) {
         if (avx2) {
-            resolveStreamAvx2(rh, out + begin, n);
+            resolveStreamAvx2(rh, out + begin, n, true);
         } else {
             Hit hits[kStreamBatch];
             for (size_t i = 0; i < n; ++i) hits[i] = hitOf(rh[i]);
@@ -338,7 +338,7 @@ void Accel::intersectSurfaces(const Ray* rays, SurfacePoint* out, size_t count, 
         if (hits || !avx2)
             for (size_t i = 0; i < n; ++i) h[i] = hitOf(rh[i]);
         if (avx2)
-            resolveStreamAvx2(rh, out + begin, n);
+            resolveStreamAvx2(rh, out + begin, n, false);
         else
             surfacesSse2(rays + begin, h, out + begin, n);
     }

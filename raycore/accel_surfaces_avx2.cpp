@@ -220,14 +220,32 @@ __attribute__((target("avx2"))) void Accel::surfacesAvx2(const Ray* rays, const 
     }
 }
 
-__attribute__((target("avx2"))) void Accel::resolveStreamAvx2(const RTCRayHit* rh,
-                                                              SurfacePoint* out, size_t n) const {
+__attribute__((target("avx2"))) void Accel::resolveStreamAvx2(const RTCRayHit* rh, SurfacePoint* out,
+                                                              size_t n, bool prefetchAhead) const {
     static_assert(offsetof(SurfacePoint, part) == 52 && offsetof(SurfacePoint, triangle) == 56 &&
                   offsetof(SurfacePoint, material) == 64 && sizeof(SurfacePoint) == 72);
     static const TriangleRecord noShading{};
     alignas(16) static const float noNormal[4] = {0.0f, 1.0f, 0.0f, 0.0f};
+    // The records of the hits three groups ahead are requested before each group is
+    // resolved: after a stream's traversal they are no longer in L1 (primary rays) or
+    // never were (secondary), and 24 hits ahead gives them time to arrive. Measured
+    // (in-process A/B, ns per ray of intersectStreamSurfaces, primary / secondary):
+    // 41.2 / 131.2 without, 35.7 / 127.7 with 24 ahead (8 and 16: 37.5 / 126.7, 36.5 / 127.7).
+    auto prefetch = [&](size_t i) {
+        if (i < n && rh[i].hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+            const char* rec = reinterpret_cast<const char*>(&record(rh[i].hit.geomID, rh[i].hit.primID));
+            __builtin_prefetch(rec);
+            __builtin_prefetch(rec + sizeof(TriangleRecord) - 1);
+        }
+    };
+    // (intersectSurfaces has prefetched each record as Embree returned it: prefetchAhead
+    // false.)
+    const size_t ahead = prefetchAhead ? 24 : 0;
+    for (size_t i = 0; i < ahead; ++i) prefetch(i);
     for (size_t base = 0; base < n; base += 8) {
         const size_t m = std::min<size_t>(8, n - base);
+        if (prefetchAhead)
+            for (size_t i = base + ahead; i < base + ahead + 8; ++i) prefetch(i);
         const float* in[8];
         const float* ts[8];
         const float* g[8];
