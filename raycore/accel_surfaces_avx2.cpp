@@ -226,11 +226,13 @@ __attribute__((target("avx2"))) void Accel::resolveStreamAvx2(const RTCRayHit* r
                   offsetof(SurfacePoint, material) == 64 && sizeof(SurfacePoint) == 72);
     static const TriangleRecord noShading{};
     alignas(16) static const float noNormal[4] = {0.0f, 1.0f, 0.0f, 0.0f};
-    // The records of the hits three groups ahead are requested before each group is
+    // The records of the hits four groups ahead are requested before each group is
     // resolved: after a stream's traversal they are no longer in L1 (primary rays) or
-    // never were (secondary), and 24 hits ahead gives them time to arrive. Measured
-    // (in-process A/B, ns per ray of intersectStreamSurfaces, primary / secondary):
-    // 41.2 / 131.2 without, 35.7 / 127.7 with 24 ahead (8 and 16: 37.5 / 126.7, 36.5 / 127.7).
+    // never were (secondary). Measured (in-process A/B, modes rotated between rounds,
+    // minimum of 12 rounds per quarter of the bench's rays, ns per ray of
+    // intersectStreamSurfaces, primary / secondary): none 41.1 / 132.5, 32 ahead
+    // 38.6 / 130.7 (24: 39.9 / 135.0 against 42.2 / 136.8 in another run, 48: 39.4 /
+    // 133.8), where the bare rtcIntersect1M loop took 33.9 / 121.0.
     auto prefetch = [&](size_t i) {
         if (i < n && rh[i].hit.geomID != RTC_INVALID_GEOMETRY_ID) {
             const char* rec = reinterpret_cast<const char*>(&record(rh[i].hit.geomID, rh[i].hit.primID));
@@ -240,7 +242,7 @@ __attribute__((target("avx2"))) void Accel::resolveStreamAvx2(const RTCRayHit* r
     };
     // (intersectSurfaces has prefetched each record as Embree returned it: prefetchAhead
     // false.)
-    const size_t ahead = prefetchAhead ? 24 : 0;
+    const size_t ahead = prefetchAhead ? 32 : 0;
     for (size_t i = 0; i < ahead; ++i) prefetch(i);
     for (size_t base = 0; base < n; base += 8) {
         const size_t m = std::min<size_t>(8, n - base);

@@ -138,7 +138,7 @@ class Accel {
     // Both intersectSurface(): hitOut (may be null) gets intersect()'s Hit.
     SurfacePoint traceAndResolve(const Ray& ray, Hit* hitOut) const;
     // intersectStreamSurfaces' AVX2 kernel: surfaces() of n records Embree has filled.
-    // prefetchAhead: request the records of hits 24 ahead before each group of eight.
+    // prefetchAhead: request the records of hits 32 ahead before each group of eight.
     void resolveStreamAvx2(const RTCRayHit* rh, SurfacePoint* out, size_t n, bool prefetchAhead) const;
     const Scene& scene_;
     RTCScene rtcScene_ = nullptr;
