@@ -65,6 +65,10 @@ void writeImage(const std::filesystem::path& path, const Image& image) {
     const bool floatFormat = ext == ".exr" || ext == ".hdr" || ext == ".pfm";
     if (floatFormat) {
         OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
+        // OpenImageIO's EXR writer stamps the time of writing (capDate) unless DateTime is
+        // given; given empty, the stamp is empty: the same image is then the same file
+        // bytes, run after run (ImageIO.FilesAreTheSameBytesOnEveryWrite).
+        spec.attribute("DateTime", "");
         if (!out->open(file, spec) ||
             !out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()))
             throw Error(file + ": cannot write image (" + out->geterror() + ")");

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "core/error.h"
@@ -84,6 +85,28 @@ TEST(ImageIO, PngQuantizesByRoundingAndEXRKeepsFloats) {
     EXPECT_EQ(e.pixels, a.pixels);
     writeImage(dir / "a.hdr", a);
     EXPECT_EQ(readImage(dir / "a.hdr").width, 4);
+}
+
+// A written image is its pixels and format only: no time stamp, so writing the same image
+// again gives the same bytes (OpenImageIO stamps EXR headers with DateTime by default).
+TEST(ImageIO, FilesAreTheSameBytesOnEveryWrite) {
+    auto dir = test::tempDir("image_io_bytes");
+    Image a(5, 3, 3);
+    for (int i = 0; i < 15; ++i) a.setRgb(i % 5, i / 5, glm::vec3(0.1f * float(i), 0.5f, 2.0f));
+    auto bytesOf = [](const std::filesystem::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    };
+    for (const char* name : {"a.exr", "a.hdr", "a.png"}) {
+        SCOPED_TRACE(name);
+        writeImage(dir / name, a);
+        const std::string first = bytesOf(dir / name);
+        ASSERT_FALSE(first.empty());
+        // A stamp as OpenImageIO writes it (EXR's capDate attribute): "2026:11:22 03:04:24".
+        EXPECT_FALSE(std::regex_search(first, std::regex("[0-9]{4}:[0-9]{2}:[0-9]{2} [0-9]{2}:[0-9]{2}:[0-9]{2}")));
+        writeImage(dir / name, a);
+        EXPECT_EQ(bytesOf(dir / name), first);
+    }
 }
 
 }  // namespace
