@@ -79,20 +79,13 @@ PemLayerImages renderPemLayers(const Accel& accel, const Camera& camera, const R
         return -1;
     };
     parallelRows(o, [&](int y, RayCounts& counts) {
-        // The row's camera rays first, traversed one by one and resolved in groups
-        // (Accel::intersectSurfaces: the same Hit and point as intersectSurface of each).
-        const size_t perPixel = size_t(n) * size_t(n), rowRays = size_t(o.width) * perPixel;
-        std::vector<Ray> rays(rowRays);
-        std::vector<Hit> hits(rowRays);
-        std::vector<SurfacePoint> points(rowRays);
-        for (int x = 0; x < o.width; ++x)
-            for (int sy = 0; sy < n; ++sy)
-                for (int sx = 0; sx < n; ++sx) {
-                    glm::vec2 f = samplePosition(x, y, sx, sy, n);
-                    rays[size_t(x) * perPixel + size_t(sy * n + sx)] =
-                        primaryRay(camera, o.width, o.height, f.x, f.y);
-                }
-        accel.intersectSurfaces(rays.data(), points.data(), rowRays, hits.data());
+        // The row's camera rays first (traceCameraRow: traversed one by one, resolved in
+        // groups).
+        const CameraRow row = traceCameraRow(accel, camera, o, y);
+        const size_t perPixel = row.perPixel;
+        const std::vector<Ray>& rays = row.rays;
+        const std::vector<Hit>& hits = row.hits;
+        const std::vector<SurfacePoint>& points = row.points;
         std::vector<Accum> acc(segments.size());
         for (int x = 0; x < o.width; ++x) {
             std::fill(acc.begin(), acc.end(), Accum{});
@@ -108,7 +101,7 @@ PemLayerImages renderPemLayers(const Accel& accel, const Camera& camera, const R
                     int k = hit.valid() ? segmentOf(s) : -1;
                     if (sx == n / 2 && sy == n / 2) centreSegment = k;
                     if (k < 0) {
-                        background += whittedShade(accel, ray, hit, 0, o.maxDepth, counts);
+                        background += whittedShade(accel, ray, hit, s, 0, o.maxDepth, counts);
                         continue;
                     }
                     Accum& a = acc[size_t(k)];
@@ -116,7 +109,7 @@ PemLayerImages renderPemLayers(const Accel& accel, const Camera& camera, const R
                     const Material& m = *s.material;
                     if (m.type == MaterialType::Diffuse || o.maxDepth <= 0) {
                         // Not a reflector: its whole shading is "diffuse", F = 0.
-                        a.diffuse += whittedShade(accel, ray, hit, 0, o.maxDepth, counts);
+                        a.diffuse += whittedShade(accel, ray, hit, s, 0, o.maxDepth, counts);
                         continue;
                     }
                     a.diffuse += diffuseLighting(accel, s, ray.dir, counts);

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "core/progress.h"
@@ -36,6 +37,25 @@ void parallelRows(const RenderOptions& options,
     if (options.counters)
         options.counters->seconds +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+CameraRow traceCameraRow(const Accel& accel, const Camera& camera, const RenderOptions& o, int y) {
+    const int n = std::max(1, o.spp);
+    CameraRow row;
+    row.perPixel = size_t(n) * size_t(n);
+    const size_t count = size_t(o.width) * row.perPixel;
+    row.rays.resize(count);
+    row.hits.resize(count);
+    row.points.resize(count);
+    for (int x = 0; x < o.width; ++x)
+        for (int sy = 0; sy < n; ++sy)
+            for (int sx = 0; sx < n; ++sx) {
+                const glm::vec2 f = samplePosition(x, y, sx, sy, n);
+                row.rays[size_t(x) * row.perPixel + size_t(sy * n + sx)] =
+                    primaryRay(camera, o.width, o.height, f.x, f.y);
+            }
+    accel.intersectSurfaces(row.rays.data(), row.points.data(), count, row.hits.data());
+    return row;
 }
 
 }  // namespace rg::ray

@@ -100,7 +100,7 @@ TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, const Hit& hi
     }
     const Material& m = *s.material;
     if (m.type == MaterialType::Diffuse || maxDepth <= 0) {
-        out.direct = whittedShade(accel, primary, hit, 0, maxDepth, counts);
+        out.direct = whittedShade(accel, primary, hit, s, 0, maxDepth, counts);
         return out;
     }
     out.hitLens = true;
@@ -155,20 +155,13 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
     const int n = std::max(1, o.spp);
     const float inv = 1.0f / float(n * n);
     parallelRows(o, [&](int y, RayCounts& counts) {
-        // The row's camera rays first, traversed one by one and resolved in groups
-        // (Accel::intersectSurfaces: the same Hit and point as intersectSurface of each).
-        const size_t perPixel = size_t(n) * size_t(n), rowRays = size_t(o.width) * perPixel;
-        std::vector<Ray> rays(rowRays);
-        std::vector<Hit> hits(rowRays);
-        std::vector<SurfacePoint> points(rowRays);
-        for (int x = 0; x < o.width; ++x)
-            for (int sy = 0; sy < n; ++sy)
-                for (int sx = 0; sx < n; ++sx) {
-                    glm::vec2 f = samplePosition(x, y, sx, sy, n);
-                    rays[size_t(x) * perPixel + size_t(sy * n + sx)] =
-                        primaryRay(camera, o.width, o.height, f.x, f.y);
-                }
-        accel.intersectSurfaces(rays.data(), points.data(), rowRays, hits.data());
+        // The row's camera rays first (traceCameraRow: traversed one by one, resolved in
+        // groups).
+        const CameraRow row = traceCameraRow(accel, camera, o, y);
+        const size_t perPixel = row.perPixel;
+        const std::vector<Ray>& rays = row.rays;
+        const std::vector<Hit>& hits = row.hits;
+        const std::vector<SurfacePoint>& points = row.points;
         std::vector<glm::vec3> dirsR, dirsT;
         for (int x = 0; x < o.width; ++x) {
             glm::vec3 termR(0.0f), termT(0.0f), fgR(0.0f), fgT(0.0f), radR(0.0f), radT(0.0f),

@@ -2,6 +2,7 @@
 #include "raycore/tracer_whitted.h"
 
 #include <cmath>
+#include <vector>
 
 #include "raycore/fresnel.h"
 
@@ -56,13 +57,19 @@ glm::vec3 mirrorDirection(const SurfacePoint& s, glm::vec3 dir) {
 
 glm::vec3 whittedRadiance(const Accel& accel, const Ray& ray, int depth, int maxDepth,
                           RayCounts& counts) {
-    return whittedShade(accel, ray, accel.intersect(ray), depth, maxDepth, counts);
+    Hit hit;
+    const SurfacePoint s = accel.intersectSurface(ray, hit);
+    return whittedShade(accel, ray, hit, s, depth, maxDepth, counts);
 }
 
 glm::vec3 whittedShade(const Accel& accel, const Ray& ray, const Hit& hit, int depth,
                        int maxDepth, RayCounts& counts) {
+    return whittedShade(accel, ray, hit, accel.surface(ray, hit), depth, maxDepth, counts);
+}
+
+glm::vec3 whittedShade(const Accel& accel, const Ray& ray, const Hit& hit, const SurfacePoint& s,
+                       int depth, int maxDepth, RayCounts& counts) {
     if (!hit.valid()) return accel.scene().environment.lookup(ray.dir);
-    const SurfacePoint s = accel.surface(ray, hit);
     const Material& m = *s.material;
     glm::vec3 L = diffuseLighting(accel, s, ray.dir, counts);
     if (m.type == MaterialType::Diffuse || depth >= maxDepth) return L;
@@ -102,15 +109,19 @@ Image renderWhitted(const Accel& accel, const Camera& camera, const RenderOption
     const int n = std::max(1, o.spp);
     const float inv = 1.0f / float(n * n);
     parallelRows(o, [&](int y, RayCounts& counts) {
+        // The row's camera rays first (traceCameraRow: traversed one by one, resolved in
+        // groups).
+        const CameraRow row = traceCameraRow(accel, camera, o, y);
+        const size_t perPixel = row.perPixel;
+        const std::vector<Ray>& rays = row.rays;
+        const std::vector<Hit>& hits = row.hits;
+        const std::vector<SurfacePoint>& points = row.points;
         for (int x = 0; x < o.width; ++x) {
             glm::vec3 sum(0.0f);
-            for (int sy = 0; sy < n; ++sy)
-                for (int sx = 0; sx < n; ++sx) {
-                    glm::vec2 f = samplePosition(x, y, sx, sy, n);
-                    Ray r = primaryRay(camera, o.width, o.height, f.x, f.y);
-                    counts.add(RayKind::Primary);
-                    sum += whittedRadiance(accel, r, 0, o.maxDepth, counts);
-                }
+            for (size_t i = size_t(x) * perPixel; i < size_t(x + 1) * perPixel; ++i) {
+                counts.add(RayKind::Primary);
+                sum += whittedShade(accel, rays[i], hits[i], points[i], 0, o.maxDepth, counts);
+            }
             img.setRgb(x, y, sum * inv);
         }
     });

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <functional>
+#include <vector>
 
+#include "raycore/accel.h"
 #include "raycore/camera.h"
 #include "raycore/counters.h"
 
@@ -27,5 +29,17 @@ struct RenderOptions {
 // the same bytes. Adds the counts and the wall time to options.counters.
 void parallelRows(const RenderOptions& options,
                   const std::function<void(int y, RayCounts& counts)>& rowFn);
+
+// The camera rays of one image row, all samples, traced before the row is shaded: ray i
+// is sample (sx, sy) of pixel x at i = x·n² + sy·n + sx, and hits[i] / points[i] are what
+// accel.intersectSurface(rays[i], hit) gives (Accel::intersectSurfaces: each ray
+// traversed alone, the hits resolved in groups). Counting them is the caller's part.
+struct CameraRow {
+    size_t perPixel = 1;  // n²
+    std::vector<Ray> rays;
+    std::vector<Hit> hits;
+    std::vector<SurfacePoint> points;
+};
+CameraRow traceCameraRow(const Accel& accel, const Camera& camera, const RenderOptions& options, int y);
 
 }  // namespace rg::ray

@@ -18,6 +18,10 @@ glm::vec3 whittedRadiance(const Accel& accel, const Ray& ray, int depth, int max
 // The same, the first intersection already found (hit may be invalid: environment).
 glm::vec3 whittedShade(const Accel& accel, const Ray& ray, const Hit& hit, int depth,
                        int maxDepth, RayCounts& counts);
+// The same, the hit already resolved: `s` is accel.surface(ray, hit) (or what
+// intersectSurface / intersectSurfaces gave with `hit`, the same point bit for bit).
+glm::vec3 whittedShade(const Accel& accel, const Ray& ray, const Hit& hit, const SurfacePoint& s,
+                       int depth, int maxDepth, RayCounts& counts);
 
 // Direct lighting of the diffuse part at a surface point: albedo·(ambient + Σ visible
 // light intensity·max(0, n·l)).
