@@ -79,24 +79,20 @@ PemLayerImages renderPemLayers(const Accel& accel, const Camera& camera, const R
         return -1;
     };
     parallelRows(o, [&](int y, RayCounts& counts) {
-        // The row's camera rays first (traceCameraRow: traversed one by one, resolved in
-        // groups).
-        const CameraRow row = traceCameraRow(accel, camera, o, y);
-        const size_t perPixel = row.perPixel;
-        const std::vector<Ray>& rays = row.rays;
-        const std::vector<Hit>& hits = row.hits;
-        const std::vector<SurfacePoint>& points = row.points;
+        // The row's camera rays traced ahead, a chunk of pixels at a time (CameraRowRays).
+        CameraRowRays row(accel, camera, o, y);
         std::vector<Accum> acc(segments.size());
         for (int x = 0; x < o.width; ++x) {
             std::fill(acc.begin(), acc.end(), Accum{});
             glm::vec3 background(0.0f);
             int centreSegment = -1;
+            const CameraRowRays::Samples px = row.pixel(x);
             for (int sy = 0; sy < n; ++sy)
                 for (int sx = 0; sx < n; ++sx) {
-                    const size_t i = size_t(x) * perPixel + size_t(sy * n + sx);
-                    const Ray& ray = rays[i];
-                    const Hit& hit = hits[i];
-                    const SurfacePoint& s = points[i];
+                    const size_t i = size_t(sy * n + sx);
+                    const Ray& ray = px.rays[i];
+                    const Hit& hit = px.hits[i];
+                    const SurfacePoint& s = px.points[i];
                     counts.add(RayKind::Primary);
                     int k = hit.valid() ? segmentOf(s) : -1;
                     if (sx == n / 2 && sy == n / 2) centreSegment = k;

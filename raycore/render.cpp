@@ -39,23 +39,31 @@ void parallelRows(const RenderOptions& options,
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-CameraRow traceCameraRow(const Accel& accel, const Camera& camera, const RenderOptions& o, int y) {
-    const int n = std::max(1, o.spp);
-    CameraRow row;
-    row.perPixel = size_t(n) * size_t(n);
-    const size_t count = size_t(o.width) * row.perPixel;
-    row.rays.resize(count);
-    row.hits.resize(count);
-    row.points.resize(count);
-    for (int x = 0; x < o.width; ++x)
-        for (int sy = 0; sy < n; ++sy)
-            for (int sx = 0; sx < n; ++sx) {
-                const glm::vec2 f = samplePosition(x, y, sx, sy, n);
-                row.rays[size_t(x) * row.perPixel + size_t(sy * n + sx)] =
-                    primaryRay(camera, o.width, o.height, f.x, f.y);
-            }
-    accel.intersectSurfaces(row.rays.data(), row.points.data(), count, row.hits.data());
-    return row;
+CameraRowRays::CameraRowRays(const Accel& accel, const Camera& camera, const RenderOptions& o, int y)
+    : accel_(accel), camera_(camera), options_(o), y_(y), n_(std::max(1, o.spp)),
+      perPixel_(size_t(n_) * size_t(n_)),
+      chunkPixels_(int(std::max<size_t>(1, kChunkRays / perPixel_))) {
+    const size_t capacity = size_t(std::min(chunkPixels_, std::max(1, o.width))) * perPixel_;
+    rays_.resize(capacity);
+    hits_.resize(capacity);
+    points_.resize(capacity);
+}
+
+CameraRowRays::Samples CameraRowRays::pixel(int x) {
+    if (x < x0_ || x >= x1_) {
+        x0_ = x;
+        x1_ = std::min(options_.width, x + chunkPixels_);
+        for (int px = x0_; px < x1_; ++px)
+            for (int sy = 0; sy < n_; ++sy)
+                for (int sx = 0; sx < n_; ++sx) {
+                    const glm::vec2 f = samplePosition(px, y_, sx, sy, n_);
+                    rays_[size_t(px - x0_) * perPixel_ + size_t(sy * n_ + sx)] =
+                        primaryRay(camera_, options_.width, options_.height, f.x, f.y);
+                }
+        accel_.intersectSurfaces(rays_.data(), points_.data(), size_t(x1_ - x0_) * perPixel_, hits_.data());
+    }
+    const size_t first = size_t(x - x0_) * perPixel_;
+    return {rays_.data() + first, hits_.data() + first, points_.data() + first};
 }
 
 }  // namespace rg::ray

@@ -155,24 +155,20 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
     const int n = std::max(1, o.spp);
     const float inv = 1.0f / float(n * n);
     parallelRows(o, [&](int y, RayCounts& counts) {
-        // The row's camera rays first (traceCameraRow: traversed one by one, resolved in
-        // groups).
-        const CameraRow row = traceCameraRow(accel, camera, o, y);
-        const size_t perPixel = row.perPixel;
-        const std::vector<Ray>& rays = row.rays;
-        const std::vector<Hit>& hits = row.hits;
-        const std::vector<SurfacePoint>& points = row.points;
+        // The row's camera rays traced ahead, a chunk of pixels at a time (CameraRowRays).
+        CameraRowRays row(accel, camera, o, y);
         std::vector<glm::vec3> dirsR, dirsT;
         for (int x = 0; x < o.width; ++x) {
             glm::vec3 termR(0.0f), termT(0.0f), fgR(0.0f), fgT(0.0f), radR(0.0f), radT(0.0f),
                 direct(0.0f), fR(0.0f), fT(0.0f), gR(0.0f), gT(0.0f);
             dirsR.clear();
             dirsT.clear();
+            const CameraRowRays::Samples px = row.pixel(x);
             for (int sy = 0; sy < n; ++sy)
                 for (int sx = 0; sx < n; ++sx) {
-                    const size_t i = size_t(x) * perPixel + size_t(sy * n + sx);
+                    const size_t i = size_t(sy * n + sx);
                     counts.add(RayKind::Primary);
-                    TwoTermSample s = traceTwoTerm(accel, rays[i], hits[i], points[i], o.maxDepth, counts);
+                    TwoTermSample s = traceTwoTerm(accel, px.rays[i], px.hits[i], px.points[i], o.maxDepth, counts);
                     direct += s.direct;
                     if (s.reflect.valid) {
                         glm::vec3 fg = s.reflect.F * s.reflect.G;

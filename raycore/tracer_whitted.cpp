@@ -109,18 +109,14 @@ Image renderWhitted(const Accel& accel, const Camera& camera, const RenderOption
     const int n = std::max(1, o.spp);
     const float inv = 1.0f / float(n * n);
     parallelRows(o, [&](int y, RayCounts& counts) {
-        // The row's camera rays first (traceCameraRow: traversed one by one, resolved in
-        // groups).
-        const CameraRow row = traceCameraRow(accel, camera, o, y);
-        const size_t perPixel = row.perPixel;
-        const std::vector<Ray>& rays = row.rays;
-        const std::vector<Hit>& hits = row.hits;
-        const std::vector<SurfacePoint>& points = row.points;
+        // The row's camera rays traced ahead, a chunk of pixels at a time (CameraRowRays).
+        CameraRowRays row(accel, camera, o, y);
         for (int x = 0; x < o.width; ++x) {
             glm::vec3 sum(0.0f);
-            for (size_t i = size_t(x) * perPixel; i < size_t(x + 1) * perPixel; ++i) {
+            const CameraRowRays::Samples px = row.pixel(x);
+            for (size_t i = 0; i < row.perPixel(); ++i) {
                 counts.add(RayKind::Primary);
-                sum += whittedShade(accel, rays[i], hits[i], points[i], 0, o.maxDepth, counts);
+                sum += whittedShade(accel, px.rays[i], px.hits[i], px.points[i], 0, o.maxDepth, counts);
             }
             img.setRgb(x, y, sum * inv);
         }

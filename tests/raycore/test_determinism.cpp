@@ -51,21 +51,25 @@ TEST(Determinism, SameBytesFor1And2And4Threads) {
     }
 }
 
-// The tracers trace each row's camera rays ahead of shading (traceCameraRow:
-// Accel::intersectSurfaces). Against their definitions one camera ray at a time
-// (whittedRadiance, traceTwoTerm of a Ray), bit for bit, and with the same ray counts: a
-// scene of glass, mirror and diffuse objects, 2×2 samples, on two threads.
-TEST(Determinism, RowTracedCameraRaysGiveWhatEachRayGives) {
+// The tracers trace each row's camera rays ahead of shading (CameraRowRays:
+// Accel::intersectSurfaces a chunk of pixels at a time). Against their definitions one
+// camera ray at a time (whittedRadiance, traceTwoTerm of a Ray), bit for bit, and with the
+// same ray counts: a scene of glass, mirror and diffuse objects on two threads, with 2×2
+// samples (a row is one chunk) and with 16×16 (chunks of 4 pixels, the last of a row
+// partial).
+void expectRowTracingMatchesEachRay(int width, int height, int n) {
+    SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + ", " + std::to_string(n) + "x" +
+                 std::to_string(n) + " samples");
     Scene s = makeBuiltinScene("glass-teapot");
     Accel accel(s);
     const Camera cam = s.cameras[0];
     RenderOptions o;
-    o.width = 48;
-    o.height = 36;
-    o.spp = 2;
+    o.width = width;
+    o.height = height;
+    o.spp = n;
     o.maxDepth = 4;
     o.threads = 2;
-    const float inv = 1.0f / 4.0f;
+    const float inv = 1.0f / float(n * n);
     RayCounts wantWhitted, wantTwoTerm;
     Image whitted(o.width, o.height, 3), direct(o.width, o.height, 3), reflect(o.width, o.height, 3),
         refract(o.width, o.height, 3);
@@ -73,9 +77,9 @@ TEST(Determinism, RowTracedCameraRaysGiveWhatEachRayGives) {
     for (int y = 0; y < o.height; ++y)
         for (int x = 0; x < o.width; ++x) {
             glm::vec3 sum(0.0f), d(0.0f), tr(0.0f), tt(0.0f);
-            for (int sy = 0; sy < 2; ++sy)
-                for (int sx = 0; sx < 2; ++sx) {
-                    const glm::vec2 f = samplePosition(x, y, sx, sy, 2);
+            for (int sy = 0; sy < n; ++sy)
+                for (int sx = 0; sx < n; ++sx) {
+                    const glm::vec2 f = samplePosition(x, y, sx, sy, n);
                     const Ray r = primaryRay(cam, o.width, o.height, f.x, f.y);
                     wantWhitted.add(RayKind::Primary);
                     sum += whittedRadiance(accel, r, 0, o.maxDepth, wantWhitted);
@@ -104,6 +108,12 @@ TEST(Determinism, RowTracedCameraRaysGiveWhatEachRayGives) {
         EXPECT_EQ(gotWhitted.count(RayKind(k)), wantWhitted.n[k]) << rayKindName(RayKind(k));
         EXPECT_EQ(gotTwoTerm.count(RayKind(k)), wantTwoTerm.n[k]) << rayKindName(RayKind(k));
     }
+}
+
+TEST(Determinism, RowTracedCameraRaysGiveWhatEachRayGives) {
+    static_assert(CameraRowRays::kChunkRays / (16 * 16) == 4, "the 16x16 case no longer splits rows in 4-pixel chunks");
+    expectRowTracingMatchesEachRay(48, 36, 2);
+    expectRowTracingMatchesEachRay(11, 5, 16);  // chunks of 4, 4 and 3 pixels
 }
 
 TEST(Determinism, RebuildingTheSceneGivesTheSameBytes) {

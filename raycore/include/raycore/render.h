@@ -30,16 +30,35 @@ struct RenderOptions {
 void parallelRows(const RenderOptions& options,
                   const std::function<void(int y, RayCounts& counts)>& rowFn);
 
-// The camera rays of one image row, all samples, traced before the row is shaded: ray i
-// is sample (sx, sy) of pixel x at i = x·n² + sy·n + sx, and hits[i] / points[i] are what
-// accel.intersectSurface(rays[i], hit) gives (Accel::intersectSurfaces: each ray
-// traversed alone, the hits resolved in groups). Counting them is the caller's part.
-struct CameraRow {
-    size_t perPixel = 1;  // n²
-    std::vector<Ray> rays;
-    std::vector<Hit> hits;
-    std::vector<SurfacePoint> points;
+// The camera rays of one image row, traced ahead of shading a few pixels at a time: the
+// n² samples of pixel x (sample sy·n + sx) come with the Hit and SurfacePoint that
+// accel.intersectSurface gives for each (Accel::intersectSurfaces: each ray traversed
+// alone, the hits resolved in groups). Pixels are asked for left to right; a pixel outside
+// the chunk held traces the chunk starting there, at most kChunkRays rays (one pixel's
+// samples at least), so memory stays bounded at any width and spp. Counting the rays is
+// the caller's part.
+class CameraRowRays {
+  public:
+    static constexpr size_t kChunkRays = 1024;
+    CameraRowRays(const Accel& accel, const Camera& camera, const RenderOptions& options, int y);
+    struct Samples {
+        const Ray* rays;
+        const Hit* hits;
+        const SurfacePoint* points;
+    };
+    Samples pixel(int x);
+    size_t perPixel() const { return perPixel_; }
+
+  private:
+    const Accel& accel_;
+    const Camera& camera_;
+    const RenderOptions& options_;
+    int y_, n_;
+    size_t perPixel_;
+    int chunkPixels_, x0_ = 0, x1_ = 0;  // the chunk held: pixels [x0_, x1_)
+    std::vector<Ray> rays_;
+    std::vector<Hit> hits_;
+    std::vector<SurfacePoint> points_;
 };
-CameraRow traceCameraRow(const Accel& accel, const Camera& camera, const RenderOptions& options, int y);
 
 }  // namespace rg::ray
