@@ -113,7 +113,7 @@ void runRetroglass(benchmark::State& state, bool secondary, Layout layout, int t
             if (layout == Layout::Single) {
                 // Each ray traversed alone by rtcIntersect1 and resolved with its Hit kept
                 // beside the point, in groups of 16 (Accel::intersectSurfaces), as the
-                // renderers do with each row of camera rays (traceCameraRow). Output kept
+                // renderers do with their camera rays (CameraRowRays). Output kept
                 // per thread, as for streams.
                 static thread_local std::vector<rg::ray::SurfacePoint> points(256);
                 static thread_local std::vector<Hit> hits(256);
