@@ -325,13 +325,7 @@ void Accel::intersectSurfaces(const Ray* rays, SurfacePoint* out, size_t count, 
         for (size_t i = 0; i < n; ++i) {
             setRay(rh[i], rays[begin + i]);
             rtcIntersect1(rtcScene_, &ctx, &rh[i]);
-            if (rh[i].hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-                // A 16-byte-aligned 80-byte record spans exactly two lines: its first and
-                // last byte name both.
-                const char* rec = reinterpret_cast<const char*>(&record(rh[i].hit.geomID, rh[i].hit.primID));
-                __builtin_prefetch(rec);
-                __builtin_prefetch(rec + sizeof(TriangleRecord) - 1);
-            }
+            prefetchRecord(rh[i]);
         }
         Hit group[kSurfaceGroup];
         Hit* h = hits ? hits + begin : group;

@@ -234,11 +234,7 @@ __attribute__((target("avx2"))) void Accel::resolveStreamAvx2(const RTCRayHit* r
     // 38.6 / 130.7 (24: 39.9 / 135.0 against 42.2 / 136.8 in another run, 48: 39.4 /
     // 133.8), where the bare rtcIntersect1M loop took 33.9 / 121.0.
     auto prefetch = [&](size_t i) {
-        if (i < n && rh[i].hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-            const char* rec = reinterpret_cast<const char*>(&record(rh[i].hit.geomID, rh[i].hit.primID));
-            __builtin_prefetch(rec);
-            __builtin_prefetch(rec + sizeof(TriangleRecord) - 1);
-        }
+        if (i < n) prefetchRecord(rh[i]);
     };
     // (intersectSurfaces has prefetched each record as Embree returned it: prefetchAhead
     // false.)

@@ -2,7 +2,6 @@
 #include "raycore/tracer_whitted.h"
 
 #include <cmath>
-#include <vector>
 
 #include "raycore/fresnel.h"
 

@@ -131,6 +131,15 @@ class Accel {
     const TriangleRecord& record(uint32_t object, uint32_t triangle) const {
         return records_[geometries_[object].base + triangle];
     }
+    // Requests the record of the hit Embree has written into rh (none on a miss). A
+    // 16-byte-aligned 80-byte record spans exactly two cache lines: its first and last
+    // byte name both.
+    void prefetchRecord(const RTCRayHit& rh) const {
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+        const char* rec = reinterpret_cast<const char*>(&record(rh.hit.geomID, rh.hit.primID));
+        __builtin_prefetch(rec);
+        __builtin_prefetch(rec + sizeof(TriangleRecord) - 1);
+    }
     // surface()'s arithmetic for a hit on (object, triangle), shared by surface() and
     // intersectSurface() so that both do the same operations in the same order.
     SurfacePoint resolve(const glm::vec3& origin, const glm::vec3& dir, float t, float u, float v,
