@@ -62,34 +62,21 @@ double psnr(const Image& a, const Image& b, double peak) {
     return 10.0 * std::log10(peak * peak / mse);
 }
 
-double ssim(const Image& a, const Image& b, double peak) {
-    requireSameShape(a, b);
-    const std::vector<double> x = luminance(a), y = luminance(b);
-    const int w = a.width, h = a.height, r = 5;  // 11×11 window
+namespace {
+
+// SSIM of every 11×11 window that fits, handed to `visit(centreX, centreY, value)` in
+// row-major order of the centres. Returns false (and visits nothing) when the image is
+// smaller than a window.
+template <class Visit>
+bool ssimWindows(const std::vector<double>& x, const std::vector<double>& y, int w, int h,
+                 double peak, Visit&& visit) {
+    const int r = 5;  // 11×11 window
+    if (w < 2 * r + 1 || h < 2 * r + 1) return false;
     double g[11];
     double gs = 0.0;
     for (int i = -r; i <= r; ++i) gs += g[i + r] = std::exp(-double(i * i) / (2.0 * 1.5 * 1.5));
     for (double& v : g) v /= gs;
     const double C1 = (0.01 * peak) * (0.01 * peak), C2 = (0.03 * peak) * (0.03 * peak);
-    // Images smaller than the window: one window over the whole image, unweighted.
-    if (w < 2 * r + 1 || h < 2 * r + 1) {
-        double mx = 0, my = 0, n = double(x.size());
-        for (size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
-        mx /= n;
-        my /= n;
-        double vx = 0, vy = 0, cxy = 0;
-        for (size_t i = 0; i < x.size(); ++i) {
-            vx += (x[i] - mx) * (x[i] - mx);
-            vy += (y[i] - my) * (y[i] - my);
-            cxy += (x[i] - mx) * (y[i] - my);
-        }
-        vx /= n;
-        vy /= n;
-        cxy /= n;
-        return ((2 * mx * my + C1) * (2 * cxy + C2)) / ((mx * mx + my * my + C1) * (vx + vy + C2));
-    }
-    double total = 0.0;
-    long count = 0;
     for (int cy = r; cy < h - r; ++cy)
         for (int cx = r; cx < w - r; ++cx) {
             double mx = 0, my = 0, xx = 0, yy = 0, xy = 0;
@@ -104,10 +91,96 @@ double ssim(const Image& a, const Image& b, double peak) {
                     xy += wt * vx * vy;
                 }
             double sx = xx - mx * mx, sy = yy - my * my, sxy = xy - mx * my;
-            total += ((2 * mx * my + C1) * (2 * sxy + C2)) / ((mx * mx + my * my + C1) * (sx + sy + C2));
-            ++count;
+            visit(cx, cy, ((2 * mx * my + C1) * (2 * sxy + C2)) /
+                              ((mx * mx + my * my + C1) * (sx + sy + C2)));
         }
+    return true;
+}
+
+// One unweighted window over the pixels `use` selects (images smaller than a window).
+template <class Use>
+double ssimWhole(const std::vector<double>& x, const std::vector<double>& y, double peak,
+                 Use&& use) {
+    const double C1 = (0.01 * peak) * (0.01 * peak), C2 = (0.03 * peak) * (0.03 * peak);
+    double mx = 0, my = 0, n = 0;
+    for (size_t i = 0; i < x.size(); ++i)
+        if (use(i)) mx += x[i], my += y[i], n += 1;
+    mx /= n;
+    my /= n;
+    double vx = 0, vy = 0, cxy = 0;
+    for (size_t i = 0; i < x.size(); ++i) {
+        if (!use(i)) continue;
+        vx += (x[i] - mx) * (x[i] - mx);
+        vy += (y[i] - my) * (y[i] - my);
+        cxy += (x[i] - mx) * (y[i] - my);
+    }
+    vx /= n;
+    vy /= n;
+    cxy /= n;
+    return ((2 * mx * my + C1) * (2 * cxy + C2)) / ((mx * mx + my * my + C1) * (vx + vy + C2));
+}
+
+}  // namespace
+
+double ssim(const Image& a, const Image& b, double peak) {
+    requireSameShape(a, b);
+    const std::vector<double> x = luminance(a), y = luminance(b);
+    double total = 0.0;
+    long count = 0;
+    if (!ssimWindows(x, y, a.width, a.height, peak, [&](int, int, double v) {
+            total += v;
+            ++count;
+        }))
+        return ssimWhole(x, y, peak, [](size_t) { return true; });
     return total / double(count);
+}
+
+MaskedScore compareMasked(const Image& truth, const Image& ours, const Image& mask,
+                          const std::string& what, double peak) {
+    requireSameShape(truth, ours);
+    if (mask.width != truth.width || mask.height != truth.height || mask.channels < 1)
+        throw Error(what + ": the mask is " + std::to_string(mask.width) + "×" +
+                    std::to_string(mask.height) + ", the images " + std::to_string(truth.width) +
+                    "×" + std::to_string(truth.height));
+    auto counted = [&](int x, int y) { return mask.at(x, y, 0) >= 0.5f; };
+    MaskedScore s;
+    double sum = 0;
+    Image clamped = truth;
+    for (float& v : clamped.pixels) v = std::clamp(v, 0.0f, float(peak));
+    for (int y = 0; y < truth.height; ++y)
+        for (int x = 0; x < truth.width; ++x) {
+            if (!counted(x, y)) continue;
+            for (int c = 0; c < truth.channels; ++c) {
+                double d = double(clamped.at(x, y, c)) - double(ours.at(x, y, c));
+                sum += d * d;
+            }
+            ++s.pixels;
+        }
+    if (s.pixels == 0)
+        throw Error(what + ": the mask covers no pixel, so there is nothing to measure (does "
+                           "the object appear in this view at all?)");
+    s.mse = sum / (double(truth.channels) * double(s.pixels));
+    s.psnr = s.mse > 0 ? 10.0 * std::log10(peak * peak / s.mse)
+                       : std::numeric_limits<double>::infinity();
+    const std::vector<double> lx = luminance(clamped), ly = luminance(ours);
+    double total = 0;
+    long count = 0;
+    const bool windows = ssimWindows(lx, ly, truth.width, truth.height, peak,
+                                     [&](int cx, int cy, double v) {
+                                         if (!counted(cx, cy)) return;
+                                         total += v;
+                                         ++count;
+                                     });
+    if (windows && count > 0) {
+        s.ssim = total / double(count);
+    } else {
+        // Too small for a window, or no window centre in the mask (a sliver at the edge):
+        // one window over the counted pixels.
+        s.ssim = ssimWhole(lx, ly, peak, [&](size_t i) {
+            return counted(int(i % size_t(truth.width)), int(i / size_t(truth.width)));
+        });
+    }
+    return s;
 }
 
 ErrorStats compareImages(const Image& a, const Image& b, double peak) {

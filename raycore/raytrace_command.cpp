@@ -1,6 +1,7 @@
 // `retroglass raytrace`: render a scene with the reference tracers from the command line.
 #include "raycore/raytrace_command.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -15,8 +16,6 @@
 
 namespace rg::ray {
 
-namespace {
-
 Camera chooseCamera(const Scene& scene, const std::string& spec) {
     if (spec.empty()) {
         if (!scene.cameras.empty()) return scene.cameras[0];
@@ -27,11 +26,19 @@ Camera chooseCamera(const Scene& scene, const std::string& spec) {
         int p = scene.findViewpointPath(spec.substr(0, colon));
         if (p < 0) throw Error("no viewpoint path named '" + spec.substr(0, colon) + "'");
         const ViewpointPath& path = scene.viewpointPaths[size_t(p)];
-        long i = std::strtol(spec.c_str() + colon + 1, nullptr, 10);
-        if (i < 0 || i >= long(path.count))
-            throw Error("viewpoint " + std::to_string(i) + " is outside path '" + path.name +
-                        "' (0.." + std::to_string(path.count - 1) + ")");
-        return path.at(uint32_t(i));
+        char* end = nullptr;
+        const std::string index = spec.substr(colon + 1);
+        double i = std::strtod(index.c_str(), &end);
+        if (index.empty() || !end || *end != '\0' || !std::isfinite(i))
+            throw Error("'" + spec + "': expected PATH:I with a viewpoint number I");
+        if (i < 0 || i > double(path.count - 1))
+            throw Error("viewpoint " + index + " is outside path '" + path.name + "' (0.." +
+                        std::to_string(path.count - 1) + ")");
+        if (i == std::floor(i)) return path.at(uint32_t(i));
+        Camera c = cameraOnCircle(path.center, path.radius, path.height,
+                                  path.startDegrees + float(i) * path.stepDegrees, path.fovYDegrees);
+        c.name = spec;
+        return c;
     }
     if (int c = scene.findCamera(spec); c >= 0) return scene.cameras[size_t(c)];
     char* end = nullptr;
@@ -40,6 +47,8 @@ Camera chooseCamera(const Scene& scene, const std::string& spec) {
         return scene.cameras[size_t(i)];
     throw Error("no camera '" + spec + "' in scene '" + scene.name + "'");
 }
+
+namespace {
 
 std::filesystem::path withSuffix(const std::filesystem::path& p, const std::string& suffix) {
     return p.parent_path() / (p.stem().string() + "_" + suffix + p.extension().string());

@@ -12,7 +12,10 @@
 #include "conformance/trace_commands.h"
 #include "core/profile.h"
 #include "raycore/raytrace_command.h"
-#include "reproductions.h"
+#include "compare.h"
+#include "gallery.h"
+#include "report.h"
+#include "reproduction.h"
 #include "view_command.h"
 #ifdef RETROGLASS_HAVE_BENCH
 #include "harness.h"
@@ -58,69 +61,46 @@ int runProfiles() {
 }
 
 // ---- reproduce --------------------------------------------------------------------------
-void writeIndex(const fs::path& out) {
-    std::ofstream html(out / "index.html");
-    html << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>retroglass "
-            "reproductions</title>\n<style>body{font-family:sans-serif;max-width:50em;margin:2em "
-            "auto}td{padding:.3em 1em}</style></head><body>\n<h1>retroglass reproductions</h1>\n"
-            "<table>\n<tr><th>paper</th><th>profile</th><th>report</th></tr>\n";
-    for (const auto& r : rg::demos::reproductions()) {
-        bool built = r.run && fs::exists(out / r.name / "report.md");
-        html << "<tr><td>" << r.paper << "</td><td>" << r.profile << "</td><td>";
-        if (built)
-            html << "<a href=\"" << r.name << "/report.md\">" << r.name << "/report.md</a>";
-        else if (r.run)
-            html << "not run yet: <code>./retroglass reproduce " << r.name << "</code>";
-        else
-            html << "not built yet";
-        html << "</td></tr>\n";
-    }
-    html << "</table>\n</body></html>\n";
-}
-
 int runReproduce(const std::string& name, const std::string& quality, const std::string& outDir,
                  const std::string& scene, const std::string& views, const GlobalOptions& g) {
     rg::demos::ReproduceOptions base;
-    if (quality == "quick")
-        base.quality = rg::demos::Quality::Quick;
-    else if (quality == "paper")
-        base.quality = rg::demos::Quality::Paper;
-    else
-        throw rg::Error("unknown quality '" + quality + "' (use quick or paper)");
+    base.quality = rg::demos::qualityByName(quality);
     base.threads = g.threads;
     base.referencePath = g.path == "reference";
     base.stats = g.stats;
     base.scene = scene;
     base.views = views;
     base.capture = g.capture;
+    if (name != "all") rg::demos::findReproduction(name);  // an unknown name is an error
 
-    bool any = false, known = false;
     int status = 0;
     fs::create_directories(outDir);
-    for (const auto& r : rg::demos::reproductions()) {
-        if (name != "all" && name != r.name) continue;
-        known = true;
-        if (!r.run) {
-            std::printf("%-10s not built yet (%s)\n", r.name.c_str(), r.paper.c_str());
+    std::vector<std::string> summary;
+    for (const rg::demos::Reproduction* r : rg::demos::reproductions()) {
+        if (name != "all" && name != r->name()) continue;
+        if (!r->built()) {
+            std::printf("%-10s not built yet (%s)\n", r->name().c_str(), r->paper().c_str());
             continue;
         }
-        any = true;
         rg::demos::ReproduceOptions o = base;
-        o.outDir = fs::path(outDir) / r.name;
+        o.outDir = fs::path(outDir) / r->name();
         fs::create_directories(o.outDir);
-        std::printf("%-10s reproducing on profile %s at %s quality into %s\n", r.name.c_str(),
-                    r.profile.c_str(), quality.c_str(), o.outDir.string().c_str());
+        std::printf("%-10s reproducing on profile %s at %s quality into %s\n", r->name().c_str(),
+                    r->profile().c_str(), quality.c_str(), o.outDir.string().c_str());
         std::fflush(stdout);
-        int rc = r.run(o);
-        if (rc != 0) {
-            std::fprintf(stderr, "%s: reproduction failed with status %d\n", r.name.c_str(), rc);
-            status = rc;
+        try {
+            nlohmann::json results = r->reproduce(o);
+            if (!results.empty()) summary.push_back(rg::demos::claimsLine(r->name(), results));
+        } catch (const rg::Error& e) {
+            // One paper failing does not stop the others; the status says it failed.
+            std::fprintf(stderr, "retroglass: %s: %s\n", r->name().c_str(), e.what());
+            summary.push_back(r->name() + ": FAILED (" + e.what() + ")");
+            status = 1;
         }
     }
-    if (!known) throw rg::Error("unknown reproduction '" + name + "'");
-    writeIndex(outDir);
-    std::printf("index: %s\n", (fs::path(outDir) / "index.html").string().c_str());
-    if (!any) std::printf("no reproduction is built yet; out/index.html lists the papers\n");
+    rg::demos::writeGallery(outDir, rg::demos::reproductions());
+    for (const std::string& line : summary) std::printf("%s\n", line.c_str());
+    std::printf("gallery: %s\n", (fs::path(outDir) / "index.html").string().c_str());
     return status;
 }
 
@@ -193,6 +173,23 @@ int main(int argc, char** argv) {
     viewCmd->add_option("--frames", view.maxFrames, "quit after this many frames (0: when closed)");
     viewCmd->footer(rg::viewer::bindingsHelp());
 
+    rg::demos::CompareOptions compareOptions;
+    std::string compareQuality = "quick";
+    auto* compare = app.add_subcommand(
+        "compare", "every technique that applies to a scene's mirror or glass objects, side by "
+                   "side against the ray tracer (tables, image grids, a plot into out/compare)");
+    compare->add_option("--scene", compareOptions.scene, "built-in scene name or scene file");
+    compare->add_option("--view", compareOptions.views,
+                        "a view: on, between, above (around the scene's viewpoint path), a "
+                        "camera name or index, or PATH:I (repeatable; default on, between, above)");
+    compare->add_option("--technique", compareOptions.techniques,
+                        "only these papers' techniques (repeatable)");
+    compare->add_option("--out", compareOptions.outDir, "output folder");
+    compare->add_option("--quality", compareQuality, "quick or paper")
+        ->check(CLI::IsMember({"quick", "paper"}));
+    compare->add_option("--width", compareOptions.width, "image width")->check(CLI::Range(16, 4096));
+    compare->add_option("--height", compareOptions.height, "image height")->check(CLI::Range(16, 4096));
+
     rg::conformance::TraceCommands traceCommands(app);  // replay, conform
 
     std::vector<std::string> testArgs;
@@ -223,6 +220,12 @@ int main(int argc, char** argv) {
         if (*profiles) return runProfiles();
         if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, g);
         if (*test) return runTests(testArgs, g);
+        if (*compare) {
+            compareOptions.threads = g.threads;
+            compareOptions.quality = rg::demos::qualityByName(compareQuality);
+            rg::demos::runCompare(compareOptions);
+            return 0;
+        }
         if (traceCommands.parsed()) return traceCommands.run(g.threads, g.path);
         if (*viewCmd) {
             view.threads = g.threads;

@@ -53,25 +53,6 @@ EmMode modeOf(double v) {
     }
 }
 
-// The reproduction's choice of reflector for a user's scene (reproduce_pem.cpp, runPem):
-// the first mirror object, split into body and lid when it names both.
-PemSceneOptions sceneOptionsFor(const ray::Scene& scene, bool userScene) {
-    PemSceneOptions pso;
-    if (!userScene) return pso;
-    pso.object.clear();
-    for (const auto& o : scene.objects)
-        if (scene.materials.at(o.material).type == ray::MaterialType::Mirror) {
-            pso.object = o.name;
-            break;
-        }
-    if (pso.object.empty()) throw Error("PEM: the scene has no mirror object");
-    const ray::Mesh& m =
-        scene.meshes.at(scene.objects.at(size_t(scene.findObject(pso.object))).mesh);
-    pso.parts.clear();
-    if (m.findPart("body") >= 0 && m.findPart("lid") >= 0) pso.parts = {"body", "lid"};
-    return pso;
-}
-
 std::optional<nlohmann::json> readManifest(const fs::path& assets) {
     std::ifstream f(assets / "manifest.json");
     if (!f) return std::nullopt;
@@ -156,7 +137,7 @@ PemDemo::PemDemo(const viewer::DemoOptions& options) : params_(pemParams()) {
         path_ = scene.viewpointPaths[size_t(pathIndex)];
         path_.count = uint32_t(m.value("views", 8));
         path_.stepDegrees = m.value("step_degrees", 4.0f);
-        PemSceneOptions pso = sceneOptionsFor(scene, userScene);
+        PemSceneOptions pso = userScene ? reflectorOptionsFor(scene) : PemSceneOptions{};
         scene_ = std::make_unique<PemScene>(makePemScene(std::move(scene), pso));
         emSize_ = m.value("em_size", 64);
         const int ptmSize = m.value("ptm_size", 128);

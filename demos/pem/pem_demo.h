@@ -11,7 +11,7 @@
 #include "pem_precompute.h"
 #include "pem_renderer.h"
 #include "pem_scene.h"
-#include "viewer/demo.h"
+#include "demo.h"
 
 namespace rg::pem {
 

@@ -121,6 +121,22 @@ AxisDistances meanEnvironmentDistances(const ray::Scene& scene, int object,
 
 }  // namespace
 
+PemSceneOptions reflectorOptionsFor(const ray::Scene& scene) {
+    PemSceneOptions pso;
+    pso.object.clear();
+    for (const auto& o : scene.objects)
+        if (scene.materials.at(o.material).type == ray::MaterialType::Mirror) {
+            pso.object = o.name;
+            break;
+        }
+    if (pso.object.empty())
+        throw Error("PEM: scene '" + scene.name + "' has no mirror object to infer PEMs for");
+    const ray::Mesh& m = scene.meshes.at(scene.objects.at(size_t(scene.findObject(pso.object))).mesh);
+    pso.parts.clear();
+    if (m.findPart("body") >= 0 && m.findPart("lid") >= 0) pso.parts = {"body", "lid"};
+    return pso;
+}
+
 PemScene makePemScene(ray::Scene scene, const PemSceneOptions& options) {
     PemScene ps;
     ps.object = scene.findObject(options.object);

@@ -49,6 +49,10 @@ struct PemScene {
     size_t hullTriangles = 0;
 };
 
+// The reflector of any scene: its first mirror object, split into body and lid when its
+// mesh names both parts (the teapot). rg::Error when the scene has no mirror object.
+PemSceneOptions reflectorOptionsFor(const ray::Scene& scene);
+
 // Raises rg::Error when the object or a part does not exist, or the object is not a mirror.
 PemScene makePemScene(ray::Scene scene, const PemSceneOptions& options);
 

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -17,6 +16,8 @@
 #include "core/error.h"
 #include "core/profile.h"
 #include "core/progress.h"
+#include "figures.h"
+#include "report.h"
 #include "pem_assets.h"
 #include "pem_precompute.h"
 #include "raycore/builtin_scenes.h"
@@ -31,6 +32,8 @@ namespace rg::pem {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+}  // namespace
 
 PemSettings settingsFor(demos::Quality q) {
     PemSettings s;
@@ -50,89 +53,7 @@ PemSettings settingsFor(demos::Quality q) {
     return s;
 }
 
-std::pair<int, int> parseViews(const std::string& spec, int count) {
-    if (spec.empty()) return {0, count};
-    int a = 0, b = 0;
-    char colon = 0;
-    std::istringstream in(spec);
-    if (!(in >> a >> colon >> b) || colon != ':' || a < 0 || b > count || a >= b)
-        throw Error("--views '" + spec + "': expected A:B with 0 ≤ A < B ≤ " + std::to_string(count));
-    return {a, b};
-}
-
-// The emulated framebuffer as a float image (bytes / 255) and its coverage (alpha > 0).
-ray::Image framebufferImage(const raster::Framebuffer& fb, ray::Image* drawn = nullptr) {
-    ray::Image img(fb.width(), fb.height(), 3);
-    if (drawn) *drawn = ray::Image(fb.width(), fb.height(), 1);
-    for (int y = 0; y < fb.height(); ++y)
-        for (int x = 0; x < fb.width(); ++x) {
-            Rgba8 c = fb.pixel(x, y);
-            img.setRgb(x, y, glm::vec3(c.r, c.g, c.b) / 255.0f);
-            if (drawn) drawn->at(x, y, 0) = c.a > 0 ? 1.0f : 0.0f;
-        }
-    return img;
-}
-
-// PSNR (peak 1) over the pixels fully covered by the reflector in both renderers.
-struct MaskedScore {
-    double psnr = 0, mse = 0;
-    int64_t pixels = 0;
-};
-MaskedScore maskedPsnr(const ray::Image& truth, const ray::Image& coverage, const ray::Image& ours,
-                       const ray::Image& drawn) {
-    double sum = 0;
-    int64_t n = 0;
-    for (int y = 0; y < truth.height; ++y)
-        for (int x = 0; x < truth.width; ++x) {
-            if (coverage.at(x, y, 0) < 0.999f || drawn.at(x, y, 0) == 0.0f) continue;
-            for (int c = 0; c < 3; ++c) {
-                double t = std::clamp(truth.at(x, y, c), 0.0f, 1.0f);
-                double d = t - ours.at(x, y, c);
-                sum += d * d;
-            }
-            ++n;
-        }
-    MaskedScore s;
-    s.pixels = n;
-    s.mse = n ? sum / (3.0 * n) : 0;
-    s.psnr = s.mse > 0 ? 10.0 * std::log10(1.0 / s.mse) : 99.0;
-    return s;
-}
-
-// The reflector alone: truth outside the coverage mask is black (as our frames are).
-ray::Image maskedTruth(const ray::Image& truth, const ray::Image& coverage) {
-    ray::Image out = truth;
-    for (int y = 0; y < out.height; ++y)
-        for (int x = 0; x < out.width; ++x)
-            if (coverage.at(x, y, 0) <= 0.0f) out.setRgb(x, y, glm::vec3(0.0f));
-    return out;
-}
-
-ray::Image hstack(const std::vector<ray::Image>& images, int gap = 4) {
-    int w = 0, h = 0;
-    for (const auto& im : images) w += im.width + gap, h = std::max(h, im.height);
-    ray::Image out(std::max(1, w - gap), h, 3, 1.0f);
-    int x0 = 0;
-    for (const auto& im : images) {
-        for (int y = 0; y < im.height; ++y)
-            for (int x = 0; x < im.width; ++x) out.setRgb(x0 + x, y, im.rgb(x, y));
-        x0 += im.width + gap;
-    }
-    return out;
-}
-
-ray::Image vstack(const std::vector<ray::Image>& images, int gap = 4) {
-    int w = 0, h = 0;
-    for (const auto& im : images) h += im.height + gap, w = std::max(w, im.width);
-    ray::Image out(w, std::max(1, h - gap), 3, 1.0f);
-    int y0 = 0;
-    for (const auto& im : images) {
-        for (int y = 0; y < im.height; ++y)
-            for (int x = 0; x < im.width; ++x) out.setRgb(x, y0 + y, im.rgb(x, y));
-        y0 += im.height + gap;
-    }
-    return out;
-}
+namespace {
 
 // A map's faces side by side per level, every level enlarged (nearest) to the base size,
 // levels top to bottom (Figure 5). channel < 0: RGB, else that channel as grey.
@@ -153,9 +74,9 @@ ray::Image mapFigure(const MapTexels& map, int channel, int maxLevels = 4) {
                 }
             faces.push_back(std::move(im));
         }
-        rows.push_back(hstack(faces, 2));
+        rows.push_back(demos::hstack(faces, 2));
     }
-    return vstack(rows, 2);
+    return demos::vstack(rows, 2);
 }
 
 ray::Image layerImage(const ray::PemLayerImages& layers, int which) {
@@ -177,13 +98,6 @@ ray::Image layerImage(const ray::PemLayerImages& layers, int which) {
 
 }  // namespace
 
-int reproducePem(const demos::ReproduceOptions& options) {
-    PemSettings S = settingsFor(options.quality);
-    S.threads = options.threads;
-    runPem(S, options);
-    return 0;
-}
-
 nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     const auto tStart = Clock::now();
     const fs::path out = options.outDir;
@@ -202,20 +116,8 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     ray::ViewpointPath path = scene.viewpointPaths[size_t(pathIndex)];
     path.count = uint32_t(S.views);
     path.stepDegrees = S.stepDegrees;
-    PemSceneOptions pso;
-    if (!options.scene.empty()) {
-        // A user's scene: the first mirror object, whole (parts if it names body/lid).
-        pso.object.clear();
-        for (const auto& o : scene.objects)
-            if (scene.materials.at(o.material).type == ray::MaterialType::Mirror) {
-                pso.object = o.name;
-                break;
-            }
-        if (pso.object.empty()) throw Error("PEM: the scene has no mirror object to infer PEMs for");
-        const ray::Mesh& m = scene.meshes.at(scene.objects.at(size_t(scene.findObject(pso.object))).mesh);
-        pso.parts.clear();
-        if (m.findPart("body") >= 0 && m.findPart("lid") >= 0) pso.parts = {"body", "lid"};
-    }
+    // A user's scene: its first mirror object, whole (parts if it names body/lid).
+    PemSceneOptions pso = options.scene.empty() ? PemSceneOptions{} : reflectorOptionsFor(scene);
     std::printf("pem: scene '%s', reflector '%s', %d viewpoints at %.1f°, %dx%d, profile %s\n",
                 scene.name.c_str(), pso.object.c_str(), S.views, S.stepDegrees, S.width, S.height,
                 std::string(profile.name).c_str());
@@ -242,7 +144,8 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
                 finestAccessedRes, S.emProbeSize, emSize);
 
     // ---- precompute (or reuse stored views) ------------------------------------------------
-    auto [v0, v1] = parseViews(options.views, S.views);
+    const demos::ViewRange range = demos::ViewRange::parse(options.views, S.views);
+    const int v0 = range.begin, v1 = range.end;
     nlohmann::json manifest = manifestFor(ps, S, emSize);
     if (!manifestMatches(assets, manifest)) {
         if (fs::exists(assets / "manifest.json"))
@@ -265,7 +168,7 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
             progress.advance();
         }
     }
-    if (!options.views.empty()) {
+    if (!range.all) {
         std::printf("pem: views %d..%d stored in %s; run without --views (with all view_* "
                     "folders copied there) to merge and evaluate\n", v0, v1 - 1, assets.string().c_str());
         return {};
@@ -309,7 +212,7 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
         ray::Camera camera;
         ray::Image truth, coverage;
         std::map<std::string, ray::Image> images;
-        std::map<std::string, MaskedScore> scores;
+        std::map<std::string, ray::MaskedScore> scores;
     };
     auto evaluate = [&](Eval& e, const std::vector<EmMode>& modes, bool blended) {
         ray::Image drawn;
@@ -325,8 +228,16 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
                     renderer.render(e.camera, mode, a);
                 }
             }
-            ray::Image img = framebufferImage(device.framebuffer(), &drawn);
-            e.scores[emModeName(mode)] = maskedPsnr(e.truth, e.coverage, img, drawn);
+            ray::Image img = demos::framebufferImage(device.framebuffer(), &drawn);
+            // Measured over the pixels fully covered by the reflector in both renderers.
+            ray::Image mask(img.width, img.height, 1);
+            for (int y = 0; y < img.height; ++y)
+                for (int x = 0; x < img.width; ++x)
+                    mask.at(x, y, 0) =
+                        e.coverage.at(x, y, 0) >= 0.999f && drawn.at(x, y, 0) != 0.0f ? 1.0f : 0.0f;
+            e.scores[emModeName(mode)] = ray::compareMasked(
+                e.truth, img, mask,
+                "pem: object '" + pso.object + "' in view '" + e.name + "' (" + emModeName(mode) + ")");
             e.images[emModeName(mode)] = std::move(img);
         }
     };
@@ -411,46 +322,71 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     }
 
     // ---- figures -------------------------------------------------------------------------
-    auto truthOf = [](const Eval& e) { return maskedTruth(e.truth, e.coverage); };
+    demos::Report rep(pemReproduction(), options.quality);
+    auto truthOf = [](const Eval& e) { return demos::masked(e.truth, e.coverage); };
+    auto psnrLabel = [](const Eval& e, const char* mode, const char* label) {
+        return std::string(label) + ", " + demos::num(e.scores.at(mode).psnr) + " dB";
+    };
     ray::writeImage(out / "figure1_on_manifold.png",
-                    hstack({truthOf(on), on.images["layered_pem"], on.images["static_em"]}));
+                    demos::labelledGrid({{truthOf(on), "ray traced"},
+                                         {on.images["layered_pem"], psnrLabel(on, "layered_pem", "layered PEM")},
+                                         {on.images["static_em"], psnrLabel(on, "static_em", "static EM")}},
+                                        3));
     if (!sk.layers.segments.empty())
         ray::writeImage(out / "figure4_layers.png",
-                        hstack({layerImage(sk.layers, 0), layerImage(sk.layers, 1),
-                                layerImage(sk.layers, 2), layerImage(sk.layers, 3)}));
+                        demos::labelledGrid({{layerImage(sk.layers, 0), "distant layer"},
+                                             {layerImage(sk.layers, 1), "local colour"},
+                                             {layerImage(sk.layers, 2), "local alpha"},
+                                             {layerImage(sk.layers, 3), "Fresnel layer"}},
+                                            4));
     ray::writeImage(out / "figure5_inferred_ems.png",
-                    vstack({mapFigure(sk.parts[0].distant, -1), mapFigure(sk.parts[0].local, -1),
-                            mapFigure(sk.parts[0].local, 3)}, 8));
+                    demos::labelledGrid({{mapFigure(sk.parts[0].distant, -1), "inferred distant EM"},
+                                         {mapFigure(sk.parts[0].local, -1), "inferred local EM"},
+                                         {mapFigure(sk.parts[0].local, 3), "local EM alpha"}},
+                                        1));
     ray::writeImage(out / "figure6_between.png",
-                    hstack({truthOf(between), between.images["layered_pem"],
-                            between.images["single_infinite_pem"]}));
+                    demos::labelledGrid(
+                        {{truthOf(between), "ray traced"},
+                         {between.images["layered_pem"], psnrLabel(between, "layered_pem", "layered PEM")},
+                         {between.images["single_infinite_pem"],
+                          psnrLabel(between, "single_infinite_pem", "single sphere-at-infinity PEM")}},
+                        3));
     ray::writeImage(out / "figure7_above.png",
-                    hstack({truthOf(above), above.images["layered_pem"], above.images["ptm"]}));
-    for (Eval* e : {&on, &between, &above})
-        for (const auto& [name, img] : e->images)
-            ray::writeImage(out / (e->name + "_" + name + "_error.png"),
-                            ray::errorHeatMap(truthOf(*e), img, 0.25f));
+                    demos::labelledGrid({{truthOf(above), "ray traced"},
+                                         {above.images["layered_pem"], psnrLabel(above, "layered_pem", "layered PEM")},
+                                         {above.images["ptm"], psnrLabel(above, "ptm", "PTM")}},
+                                        3));
+    {
+        // Per-pixel error against the ray tracer, every method at every view (0 to 0.25).
+        std::vector<demos::Cell> cells;
+        for (Eval* e : {&on, &between, &above})
+            for (const char* mode : {"layered_pem", "single_infinite_pem", "ptm", "static_em"}) {
+                ray::Image heat = ray::errorHeatMap(truthOf(*e), e->images.at(mode), 0.25f);
+                ray::writeImage(out / (e->name + "_" + mode + "_error.png"), heat);
+                cells.push_back({std::move(heat), e->name + ": " + mode});
+            }
+        ray::writeImage(out / "error_maps.png", demos::labelledGrid(cells, 4));
+    }
 
     // ---- results.json ------------------------------------------------------------------
     nlohmann::json r;
-    auto scores = [](const Eval& e) {
+    auto scores = [](const Eval& e, bool ssim) {
         nlohmann::json j;
-        for (const auto& [name, s] : e.scores) j[name] = s.psnr;
+        for (const auto& [name, s] : e.scores) j[name] = ssim ? s.ssim : s.psnr;
         return j;
     };
-    r["on_manifold"]["psnr_db"] = scores(on);
+    for (Eval* e : {&on, &between, &above}) {
+        r[e->name]["psnr_db"] = scores(*e, false);
+        r[e->name]["ssim"] = scores(*e, true);
+        r[e->name]["pixels"] = e->scores["layered_pem"].pixels;
+    }
     r["on_manifold"]["psnr_db"]["pem"] = on.scores["layered_pem"].psnr;
-    r["on_manifold"]["pixels"] = on.scores["layered_pem"].pixels;
-    r["off_manifold_between"]["psnr_db"] = scores(between);
-    r["off_manifold_between"]["pixels"] = between.scores["layered_pem"].pixels;
-    r["off_manifold_above"]["psnr_db"] = scores(above);
-    r["off_manifold_above"]["pixels"] = above.scores["layered_pem"].pixels;
     r["viewer"] = viewer;
     r["precompute"] = {{"raytrace_s_per_view", rtS},
                        {"inference_s_per_view", infS},
                        {"views_timed", timed}};
     r["rendering_matrix_agreement"] = agreement;
-    r["settings"] = {{"quality", options.quality == demos::Quality::Paper ? "paper" : "quick"},
+    r["settings"] = {{"quality", demos::qualityName(options.quality)},
                      {"viewpoints", S.views},
                      {"step_degrees", S.stepDegrees},
                      {"em_resolution", emSize},
@@ -467,59 +403,117 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
         r["settings"]["parts"].push_back({{"name", p.name},
                                           {"local", p.local.describe()},
                                           {"distant", p.distant.describe()}});
-    r["seconds_total"] = std::chrono::duration<double>(Clock::now() - tStart).count();
+
+    // ---- the paper's claims (margins: docs/reports.md, "Margins") ---------------------------
+    const auto psnrOf = [](const Eval& e, const char* mode) { return e.scores.at(mode).psnr; };
+    constexpr double kMarginDb = 0.5;  // well above the run-to-run spread (the images are deterministic)
+    rep.claim(demos::claimAtLeast(
+        "layered_beats_static_on_manifold", "§1, Figure 1",
+        "At a viewpoint sample the PEM is superior to a static EM", "layered_pem",
+        psnrOf(on, "layered_pem"), "static_em", psnrOf(on, "static_em"), kMarginDb, "dB"));
+    rep.claim(demos::claimAtLeast(
+        "layered_beats_single_between", "§6, Figure 6",
+        "Between samples the layered EM is more accurate than the single sphere-at-infinity EM",
+        "layered_pem", psnrOf(between, "layered_pem"), "single_infinite_pem",
+        psnrOf(between, "single_infinite_pem"), kMarginDb, "dB"));
+    rep.claim(demos::claimAtLeast(
+        "layered_beats_ptm_between", "§2",
+        "PEMs give much better quality than PTMs off the manifold (between samples)",
+        "layered_pem", psnrOf(between, "layered_pem"), "ptm", psnrOf(between, "ptm"), kMarginDb, "dB"));
+    rep.claim(demos::claimAtLeast(
+        "layered_beats_ptm_above", "§6, Figure 7",
+        "Above the plane of the samples PEMs beat PTMs", "layered_pem",
+        psnrOf(above, "layered_pem"), "ptm", psnrOf(above, "ptm"), kMarginDb, "dB"));
+    rep.claim(demos::claimAtLeast(
+        "layered_beats_single_above", "§1",
+        "Local reflections hold up far from the 1D sample path: above it the layered PEM beats "
+        "the single sphere-at-infinity PEM",
+        "layered_pem", psnrOf(above, "layered_pem"), "single_infinite_pem",
+        psnrOf(above, "single_infinite_pem"), kMarginDb, "dB"));
     {
-        std::ofstream f(out / "results.json");
-        f << r.dump(2) << "\n";
+        demos::Claim c;
+        c.id = "rendering_matrix_from_test_renderings";
+        c.section = "§4, EM Inference";
+        c.statement = "The rendering matrix can be measured by test renderings of the hardware "
+                      "(here: identical rows and entries within one 8-bit step of the exact "
+                      "tap weights)";
+        c.test = "same rows and no entry off by more than 1/255, both layers";
+        c.holds = true;
+        for (const auto& [layer, g] : agreement.items()) {
+            c.measured[layer + "_max_abs_difference"] = g["max_abs_difference"];
+            c.measured[layer + "_entries_off"] = g["entries_differing_by_more_than_1_255"];
+            c.holds = c.holds && g["same_rows"].get<bool>() &&
+                      g["entries_differing_by_more_than_1_255"].get<int64_t>() == 0;
+        }
+        rep.claim(c);
+    }
+    {
+        demos::Claim c;
+        c.id = "viewer_passes";
+        c.section = "§6 table";
+        c.statement = "The viewer draws the reflector in 2 geometry passes on a sample and 3 "
+                      "between samples";
+        c.test = "passes = 2 and 3";
+        const int pOn = viewer["on_manifold"]["geometry_passes"], pOff = viewer["off_manifold"]["geometry_passes"];
+        c.measured = {{"on_manifold", pOn}, {"off_manifold", pOff}};
+        c.holds = pOn == 2 && pOff == 3;
+        rep.claim(c);
     }
 
-    // ---- report.md -----------------------------------------------------------------------
-    std::ofstream md(out / "report.md");
-    auto num = [](double v, int prec = 2) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%.*f", prec, v);
-        return std::string(b);
-    };
+    // ---- report --------------------------------------------------------------------------
     const auto& von = viewer["on_manifold"];
     const auto& voff = viewer["off_manifold"];
-    md << "# Parameterized Environment Maps — reproduction\n\n"
-       << "Hakura, Snyder & Lengyel, *Parameterized Environment Maps*, I3D 2001, on the emulated "
+    using demos::num;
+    std::ostringstream& md = rep.md();
+    md << "Hakura, Snyder & Lengyel, *Parameterized Environment Maps*, I3D 2001, on the emulated "
        << "`geforce256` profile (Direct3D 7, two texture stages per pass).\n\n"
-       << "Quality `" << (options.quality == demos::Quality::Paper ? "paper" : "quick") << "`: "
+       << "Quality `" << demos::qualityName(options.quality) << "`: "
        << S.views << " viewpoints at " << num(S.stepDegrees, 1) << "° on a circle around the teapot, "
        << ps.triangles << " triangles (lid and body inferred separately), EMs " << emSize << "²×6 with "
        << "every MIPMAP level inferred, images " << S.width << "×" << S.height << ", "
-       << S.spp * S.spp << " ray-traced samples per pixel.\n\n"
-       << "## Fidelity against the ray tracer (PSNR in dB over the reflector's pixels)\n\n"
-       << "The paper shows these comparisons as Figures 1, 6 and 7 without numbers; ours are "
-       << "measured over the pixels fully covered by the teapot in both renderers.\n\n"
-       << "| viewpoint | layered PEM | single sphere-at-infinity PEM | PTM | static EM |\n|---|---|---|---|---|\n";
-    for (Eval* e : {&on, &between, &above})
-        md << "| " << e->name << " | " << num(e->scores["layered_pem"].psnr) << " | "
-           << num(e->scores["single_infinite_pem"].psnr) << " | " << num(e->scores["ptm"].psnr)
-           << " | " << num(e->scores["static_em"].psnr) << " |\n";
-    md << "\n![Figure 1](figure1_on_manifold.png)\n\n*Figure 1 analogue, at a viewpoint sample: "
-          "ray traced, layered PEM, static EM.*\n\n"
-       << "![Figure 4](figure4_layers.png)\n\n*Figure 4 analogue: distant layer, local colour, "
-          "local alpha, Fresnel layer.*\n\n"
-       << "![Figure 5](figure5_inferred_ems.png)\n\n*Figure 5 analogue (" << ps.parts[0].name
-       << "): inferred distant EM, local EM and its alpha; rows are MIPMAP levels, columns the "
-          "faces +X −X +Y −Y +Z −Z.*\n\n"
-       << "![Figure 6](figure6_between.png)\n\n*Figure 6 analogue, halfway between two samples: "
-          "ray traced, layered PEM, single sphere-at-infinity PEM.*\n\n"
-       << "![Figure 7](figure7_above.png)\n\n*Figure 7 analogue, above the plane of the samples: "
-          "ray traced, layered PEM, PTM.*\n\n"
-       << "## The viewer (001 §6 table)\n\n"
-       << "| | paper on | ours on | paper off | ours off |\n|---|---|---|---|---|\n"
-       << "| geometry passes | 2 | " << von["geometry_passes"].get<int>() << " | 3 | "
-       << voff["geometry_passes"].get<int>() << " |\n"
-       << "| texgen time | 35 ms | " << num(von["texgen_ms"].get<double>()) << " ms | 35 ms | "
-       << num(voff["texgen_ms"].get<double>()) << " ms |\n"
-       << "| frame time | 45 ms | " << num(von["frame_ms"].get<double>()) << " ms | 57 ms | "
-       << num(voff["frame_ms"].get<double>()) << " ms |\n"
-       << "| FPS | 22 | " << num(von["fps"].get<double>(), 1) << " | 17.5 | "
-       << num(voff["fps"].get<double>(), 1) << " |\n\n"
-       << "Ours: " << S.viewerWidth << "×" << S.viewerHeight << ", " << ps.triangles
+       << S.spp * S.spp << " ray-traced samples per pixel.\n\n";
+    rep.heading("Fidelity against the ray tracer over the reflector's pixels");
+    rep.paragraph("The paper shows these comparisons as Figures 1, 6 and 7 without numbers; ours "
+                  "are measured over the pixels fully covered by the teapot in both renderers. "
+                  "PSNR in dB / SSIM.");
+    {
+        demos::Table t{{"viewpoint", "layered PEM", "single sphere-at-infinity PEM", "PTM", "static EM"}, {}};
+        for (Eval* e : {&on, &between, &above}) {
+            std::vector<std::string> row{e->name};
+            for (const char* mode : {"layered_pem", "single_infinite_pem", "ptm", "static_em"})
+                row.push_back(num(e->scores[mode].psnr) + " / " + num(e->scores[mode].ssim, 3));
+            t.rows.push_back(row);
+        }
+        rep.table(t);
+    }
+    rep.figure("figure1_on_manifold.png",
+               "Figure 1 analogue, at a viewpoint sample: ray traced, layered PEM, static EM.");
+    if (!sk.layers.segments.empty())
+        rep.figure("figure4_layers.png",
+                   "Figure 4 analogue: distant layer, local colour, local alpha, Fresnel layer.");
+    rep.figure("figure5_inferred_ems.png",
+               "Figure 5 analogue (" + ps.parts[0].name +
+                   "): inferred distant EM, local EM and its alpha; rows are MIPMAP levels, "
+                   "columns the faces +X −X +Y −Y +Z −Z.");
+    rep.figure("figure6_between.png",
+               "Figure 6 analogue, halfway between two samples: ray traced, layered PEM, single "
+               "sphere-at-infinity PEM.");
+    rep.figure("figure7_above.png",
+               "Figure 7 analogue, above the plane of the samples: ray traced, layered PEM, PTM.");
+    rep.figure("error_maps.png",
+               "Per-pixel error against the ray tracer (black 0 → blue → green → yellow → red → "
+               "white 0.25), each method at each view.");
+    rep.heading("The viewer (001 §6 table)");
+    rep.table({{"", "paper on", "ours on", "paper off", "ours off"},
+               {{"geometry passes", "2", std::to_string(von["geometry_passes"].get<int>()), "3",
+                 std::to_string(voff["geometry_passes"].get<int>())},
+                {"texgen time", "35 ms", num(von["texgen_ms"].get<double>()) + " ms", "35 ms",
+                 num(voff["texgen_ms"].get<double>()) + " ms"},
+                {"frame time", "45 ms", num(von["frame_ms"].get<double>()) + " ms", "57 ms",
+                 num(voff["frame_ms"].get<double>()) + " ms"},
+                {"FPS", "22", num(von["fps"].get<double>(), 1), "17.5",
+                 num(voff["fps"].get<double>(), 1)}}});
+    md << "Ours: " << S.viewerWidth << "×" << S.viewerHeight << ", " << ps.triangles
        << " triangles, the emulated GeForce 256 on this machine's CPU cores (paper: 733 MHz PC "
           "with a GeForce, ~40k triangles).\n\n"
        << "Goal: 60 FPS with viewpoint blending at 640×480. What bounds the frame: per frame the "
@@ -530,20 +524,23 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
        << " thread(s); texture-coordinate generation is negligible (" << num(voff["texgen_ms"].get<double>())
        << " ms). The time goes to texture filtering and the stage cascade, then rasterization "
           "(`retroglass bench --filter pem_viewer` measures the frame at the paper's 40k "
-          "triangles).\n\n"
-       << "## Precompute per viewpoint\n\n| | paper | ours |\n|---|---|---|\n"
-       << "| ray tracing | 15 min | " << num(rtS) << " s |\n"
-       << "| EM inference | 5.5 min | " << num(infS) << " s |\n\n"
-       << "## The rendering matrix, two ways\n\n"
-       << "At the evaluation sample, part `" << ps.parts[0].name << "`: the paper's test renderings "
-       << "(8-bit read-backs) against the instrumented pass (exact tap weights).\n\n"
-       << "| layer | max abs difference | entries off by > 1/255 | test renderings |\n|---|---|---|---|\n";
-    for (const auto& [layer, g] : agreement.items())
-        md << "| " << layer << " | " << num(g["max_abs_difference"].get<double>(), 5) << " | "
-           << g["entries_differing_by_more_than_1_255"].get<int64_t>() << " | "
-           << g["test_renderings"].get<int>() << " |\n";
-    md << "\n## Choices where the paper is silent\n\n"
-       << "- **Passes.** On the manifold: pass 1 distant EM × Fresnel, pass 2 local EM × Fresnel "
+          "triangles).\n\n";
+    rep.heading("Precompute per viewpoint");
+    rep.table({{"", "paper", "ours"},
+               {{"ray tracing", "15 min", num(rtS) + " s"}, {"EM inference", "5.5 min", num(infS) + " s"}}});
+    rep.heading("The rendering matrix, two ways");
+    md << "At the evaluation sample, part `" << ps.parts[0].name << "`: the paper's test renderings "
+       << "(8-bit read-backs) against the instrumented pass (exact tap weights).\n\n";
+    {
+        demos::Table t{{"layer", "max abs difference", "entries off by > 1/255", "test renderings"}, {}};
+        for (const auto& [layer, g] : agreement.items())
+            t.rows.push_back({layer, num(g["max_abs_difference"].get<double>(), 5),
+                              std::to_string(g["entries_differing_by_more_than_1_255"].get<int64_t>()),
+                              std::to_string(g["test_renderings"].get<int>())});
+        rep.table(t);
+    }
+    rep.heading("Choices where the paper is silent");
+    md << "- **Passes.** On the manifold: pass 1 distant EM × Fresnel, pass 2 local EM × Fresnel "
           "blended SRCALPHA/INVSRCALPHA (off-hull triangles only). Between samples: pass 1 the two "
           "distant EMs blended by TFACTOR alpha (BLENDFACTORALPHA), pass 2 the two local EMs "
           "likewise and composited over, pass 3 the Fresnel texture modulating the framebuffer "
@@ -564,9 +561,14 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
           "'between' is far enough from the samples to matter.\n"
        << "- **Culling.** Back faces are culled (the teapot's front faces are clockwise in "
           "window space); through the small gap under the lid the background shows.\n"
-       << "- **PSNR mask.** Pixels whose every ray-traced sample hits the teapot and that the "
-          "rasterizer covers; the background room is not part of the comparison.\n";
-    md.close();
+       << "- **Measurement mask.** Pixels whose every ray-traced sample hits the teapot and that "
+          "the rasterizer covers; the background room is not part of the comparison. SSIM "
+          "averages the 11×11 windows centred in the mask.\n"
+       << "- **Claims.** Each ordering must hold by " << num(kMarginDb, 1)
+       << " dB: the renders are deterministic, so the margin guards against a difference too "
+          "small to see rather than against noise.\n\n";
+    r["seconds_total"] = std::chrono::duration<double>(Clock::now() - tStart).count();
+    r = rep.write(out, r);
     std::printf("pem: on-manifold PSNR layered %.2f dB, static %.2f dB; between layered %.2f, "
                 "single %.2f, ptm %.2f, static %.2f; above layered %.2f, ptm %.2f\n",
                 on.scores["layered_pem"].psnr, on.scores["static_em"].psnr,
@@ -575,6 +577,31 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
                 above.scores["layered_pem"].psnr, above.scores["ptm"].psnr);
     std::printf("pem: wrote %s\n", (out / "report.md").string().c_str());
     return r;
+}
+
+// ---- the registry entry -------------------------------------------------------------------
+
+std::string PemReproduction::paper() const {
+    return "Hakura, Snyder & Lengyel, \"Parameterized Environment Maps\", I3D 2001";
+}
+
+nlohmann::json PemReproduction::settings(demos::Quality quality) const {
+    const PemSettings s = settingsFor(quality);
+    return {{"viewpoints", s.views},      {"step_degrees", s.stepDegrees}, {"em_size", s.emSize},
+            {"ptm_size", s.ptmSize},      {"image_size", {s.width, s.height}},
+            {"teapot_level", s.teapotLevel}, {"spp", s.spp * s.spp},
+            {"viewer_size", {s.viewerWidth, s.viewerHeight}}};
+}
+
+nlohmann::json PemReproduction::reproduce(const demos::ReproduceOptions& options) const {
+    PemSettings S = settingsFor(options.quality);
+    S.threads = options.threads;
+    return runPem(S, options);
+}
+
+const PemReproduction& pemReproduction() {
+    static const PemReproduction instance;
+    return instance;
 }
 
 }  // namespace rg::pem

@@ -5,15 +5,33 @@
 #include <nlohmann/json.hpp>
 
 #include "pem_precompute.h"
-#include "reproductions.h"
+#include "reproduction.h"
 
 namespace rg::pem {
 
-int reproducePem(const demos::ReproduceOptions& options);
+// The settings of each quality (001 §6 for paper).
+PemSettings settingsFor(demos::Quality quality);
 
 // The reproduction at explicit settings (tests run it small). Writes the figures,
-// report.md and results.json into options.outDir and returns the results; returns an empty
-// object after a partial precompute (--views A:B).
+// report.md, index.html and results.json into options.outDir and returns the results;
+// returns an empty object after a partial precompute (--views A:B).
 nlohmann::json runPem(PemSettings settings, const demos::ReproduceOptions& options);
+
+class PemReproduction final : public demos::Reproduction {
+  public:
+    std::string name() const override { return "pem"; }
+    std::string paper() const override;
+    std::string profile() const override { return "geforce256"; }
+    nlohmann::json settings(demos::Quality quality) const override;
+    nlohmann::json reproduce(const demos::ReproduceOptions& options) const override;
+    std::string appliesTo(const ray::Scene& scene) const override;
+    std::unique_ptr<demos::Technique> prepare(const ray::Scene& scene,
+                                              const std::vector<ray::Camera>& views,
+                                              const demos::PrepareOptions& options) const override;
+    std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
+    std::vector<demos::BenchCase> benchCases() const override;
+};
+
+const PemReproduction& pemReproduction();
 
 }  // namespace rg::pem

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "core/error.h"
+#include "reproduction.h"
 #include <OpenImageIO/imageio.h>
 
 namespace fs = std::filesystem;
@@ -66,18 +67,23 @@ void writeFramebufferPng(const std::string& path, const raster::Framebuffer& fb)
 
 namespace {
 
+// The paper's demo through the one registry (demos/registry.cpp).
 std::unique_ptr<Demo> makeDemo(const std::string& name, const ViewOptions& o) {
-    for (const DemoEntry& e : demoRegistry())
-        if (e.name == name) {
-            DemoOptions d;
-            d.outDir = fs::path(o.outRoot) / name;
-            d.scene = o.scene;
-            d.threads = o.threads;
-            return e.make(d);
-        }
     std::string known;
-    for (const DemoEntry& e : demoRegistry()) known += " " + e.name;
-    throw Error("unknown demo '" + name + "' (the viewer knows:" + known + ")");
+    for (const demos::Reproduction* r : demos::reproductions()) {
+        DemoOptions d;
+        d.outDir = fs::path(o.outRoot) / r->name();
+        d.scene = o.scene;
+        d.threads = o.threads;
+        if (r->name() == name) {
+            if (std::unique_ptr<Demo> demo = r->makeDemo(d)) return demo;
+            throw Error("'" + name + "' has no viewer demo yet (" +
+                        (r->built() ? "its reproduction runs: ./retroglass reproduce " + name
+                                    : std::string("not built yet")) + ")");
+        }
+        known += " " + r->name();
+    }
+    throw Error("unknown demo '" + name + "' (the papers:" + known + ")");
 }
 
 // Replays a recording without a window: the same actions at the same frames, every frame

@@ -16,20 +16,6 @@
 
 namespace rg::viewer {
 
-// ---- parameters -----------------------------------------------------------------------
-
-Param& findParam(std::vector<Param>& params, const std::string& name) {
-    for (Param& p : params)
-        if (p.name == name) return p;
-    throw Error("unknown parameter '" + name + "'");
-}
-
-double paramValue(const std::vector<Param>& params, const std::string& name) {
-    for (const Param& p : params)
-        if (p.name == name) return p.value;
-    throw Error("unknown parameter '" + name + "'");
-}
-
 // ---- device state as text ---------------------------------------------------------------
 
 namespace {

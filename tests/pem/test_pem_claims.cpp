@@ -6,6 +6,9 @@
 
 #include <filesystem>
 #include <random>
+#include <set>
+
+#include <unistd.h>
 
 #include "pem_assets.h"
 #include "reproduce_pem.h"
@@ -30,6 +33,32 @@ PemSettings smallSettings() {
     s.viewerHeight = 120;
     s.viewerFrames = 2;
     return s;
+}
+
+// The claims of the report, at the quick quality `retroglass reproduce` runs (fewer timed
+// viewer frames): every one holds with the margin the report states (docs/reports.md).
+TEST(PemClaims, EveryReportedClaimHoldsAtQuickQuality) {
+    demos::ReproduceOptions o;
+    o.outDir = fs::path(RETROGLASS_BUILD_DIR) / "test-out" /
+               ("pem-quick-" + std::to_string(::getpid()));
+    fs::remove_all(o.outDir);
+    PemSettings s = settingsFor(demos::Quality::Quick);
+    s.viewerFrames = 2;
+    nlohmann::json r = runPem(s, o);
+    ASSERT_TRUE(r.contains("claims"));
+    EXPECT_EQ(r["claims_total"].get<int>(), 7);
+    std::set<std::string> ids;
+    for (const auto& c : r["claims"]) {
+        ids.insert(c["id"].get<std::string>());
+        EXPECT_TRUE(c["holds"].get<bool>()) << c.dump(2);
+    }
+    for (const char* id : {"layered_beats_static_on_manifold", "layered_beats_single_between",
+                           "layered_beats_ptm_between", "layered_beats_ptm_above",
+                           "layered_beats_single_above", "rendering_matrix_from_test_renderings",
+                           "viewer_passes"})
+        EXPECT_TRUE(ids.count(id)) << id;
+    EXPECT_EQ(r["claims_held"].get<int>(), r["claims_total"].get<int>());
+    fs::remove_all(o.outDir);
 }
 
 TEST(PemClaims, HoldAtASmallSetting) {

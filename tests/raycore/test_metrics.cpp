@@ -65,6 +65,53 @@ TEST(Metrics, ErrorStatsMeanP95Max) {
     EXPECT_EQ(heat.rgb(9, 9), glm::vec3(1.0f));       // the maximum: white
 }
 
+// Masked measurements (the object, not the frame). Oracles: a constant offset gives
+// MSE = offset², so PSNR = 20 dB at 0.1; two constant windows of means μx, μy have SSIM
+// (2μxμy + C1)/(μx² + μy² + C1) with C1 = 0.0001 (the variances and covariance are 0).
+TEST(Metrics, MaskedScoresCountOnlyTheMask) {
+    const int w = 40, h = 30;
+    Image truth(w, h, 3, 0.5f), ours(w, h, 3, 0.6f), mask(w, h, 1, 0.0f);
+    // The mask: a 10×8 block whose every 11×11 window lies inside the constant region.
+    for (int y = 11; y < 19; ++y)
+        for (int x = 10; x < 20; ++x) mask.at(x, y, 0) = 1.0f;
+    // Outside the windows of the mask, wild differences that a whole-frame score would see.
+    for (int y = 0; y < h; ++y)
+        for (int x = 26; x < w; ++x) {
+            truth.setRgb(x, y, glm::vec3(float((x * 13 + y * 7) % 10) / 10.0f));
+            ours.setRgb(x, y, glm::vec3(float((x * 3 + y * 11) % 10) / 10.0f));
+        }
+    MaskedScore s = compareMasked(truth, ours, mask, "test object");
+    EXPECT_EQ(s.pixels, 80);
+    EXPECT_NEAR(s.mse, 0.01, 1e-7);
+    EXPECT_NEAR(s.psnr, 20.0, 1e-4);
+    const double c1 = 0.0001, expected = (2 * 0.5 * 0.6 + c1) / (0.25 + 0.36 + c1);
+    EXPECT_NEAR(s.ssim, expected, 1e-6);
+    EXPECT_LT(psnr(truth, ours), 19.0);  // the whole frame is worse: the mask matters
+    EXPECT_LT(ssim(truth, ours), expected - 0.05);
+    // The reference is clamped to what an 8-bit framebuffer can hold.
+    Image bright(w, h, 3, 1.7f), white(w, h, 3, 1.0f);
+    EXPECT_EQ(compareMasked(bright, white, mask, "clamped").mse, 0.0);
+    EXPECT_TRUE(std::isinf(compareMasked(bright, white, mask, "clamped").psnr));
+}
+
+TEST(Metrics, AnEmptyMaskIsAnErrorNamingWhatWasMeasured) {
+    Image a(16, 16, 3, 0.5f), b(16, 16, 3, 0.5f), mask(16, 16, 1, 0.0f);
+    mask.at(3, 3, 0) = 0.49f;  // below one half: not counted
+    try {
+        compareMasked(a, b, mask, "object 'teapot' in view 'above'");
+        FAIL() << "an empty mask must not measure";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("object 'teapot' in view 'above'"), std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("covers no pixel"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(compareMasked(a, b, Image(8, 8, 1, 1.0f), "wrong size"), Error);
+    // One counted pixel in an image too small for a window: measured, not an error.
+    Image small(5, 5, 3, 0.2f), mask5(5, 5, 1, 0.0f);
+    mask5.at(2, 2, 0) = 1.0f;
+    EXPECT_EQ(compareMasked(small, small, mask5, "one pixel").pixels, 1);
+}
+
 TEST(ImageIO, PngQuantizesByRoundingAndEXRKeepsFloats) {
     auto dir = test::tempDir("image_io");
     Image a(4, 2, 3);

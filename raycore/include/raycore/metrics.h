@@ -2,6 +2,7 @@
 // (mean, 95th percentile, max) written as JSON, and an error heat map.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -30,6 +31,20 @@ ErrorStats compareImages(const Image& a, const Image& b, double peak = 1.0);
 // {"mean":…, "p95":…, "max":…, "psnr":…, "ssim":…, "rmse":…, "width":…, "height":…}
 std::string errorStatsJson(const ErrorStats& s);
 void writeErrorStatsJson(const std::filesystem::path& path, const ErrorStats& s);
+
+// Measurements over a mask (a 1-channel image, pixel counted where mask ≥ 0.5): the
+// object a technique renders, not the whole frame. MSE over the counted pixels' channels;
+// PSNR = 10·log10(peak²/MSE) (+inf when they agree); SSIM as ssim() but averaged over the
+// windows whose centre is counted (images smaller than a window: over the counted pixels).
+// `truth` is clamped to [0, peak] first (an 8-bit framebuffer cannot hold more). An empty
+// mask raises rg::Error naming `what` (e.g. "object 'teapot' in view 'between'"): a
+// measurement of nothing is an error, never a perfect score.
+struct MaskedScore {
+    double psnr = 0, ssim = 0, mse = 0;
+    int64_t pixels = 0;
+};
+MaskedScore compareMasked(const Image& truth, const Image& ours, const Image& mask,
+                          const std::string& what, double peak = 1.0);
 
 // Per-pixel error mapped black → blue → green → yellow → red → white over [0, scale]
 // (scale ≤ 0: the image's max error).

@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "raycore/camera.h"
+
 namespace rg::ray {
 
 struct RaytraceArgs {
@@ -19,6 +21,14 @@ struct RaytraceArgs {
     std::string out;              // image file; two-term and pem-layers add suffixes
     bool quiet = false;           // no progress bar, no summary line
 };
+
+struct Scene;
+
+// A camera of `scene` by spec: empty (its first camera, else its first path's first
+// viewpoint), a camera name or index, or "<path>:<i>" (viewpoint i of a path; a
+// fractional i, e.g. "circle:49.5", lies on the circle between two viewpoints).
+// rg::Error naming what is missing.
+Camera chooseCamera(const Scene& scene, const std::string& spec);
 
 // Returns 0 on success, 1 on error (message on stderr naming the problem).
 int runRaytraceCommand(const RaytraceArgs& args);

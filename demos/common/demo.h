@@ -7,8 +7,9 @@
 //
 //   viewer ──(params, camera)──▶ Demo::render(Device&, Camera) ──▶ Device passes ──▶ framebuffer
 //
-// Adding a paper: implement Demo in demos/<paper>/<paper>_demo.{h,cpp} and add one line to
-// demos/viewer/demo_registry.cpp. docs/viewer.md has the details.
+// Adding a paper: implement Demo in demos/<paper>/<paper>_demo.{h,cpp} and return it from
+// the paper's Reproduction::makeDemo (reproduction.h); the registry, demos/registry.cpp,
+// is the one list. docs/viewer.md has the details.
 #pragma once
 
 #include <filesystem>
@@ -77,13 +78,6 @@ class Demo {
     // params, the camera, the device's profile and size: no clocks, no randomness.
     virtual FrameNotes render(raster::Device& device, const ray::Camera& camera) = 0;
 };
-
-// The demos the viewer knows (demos/viewer/demo_registry.cpp).
-struct DemoEntry {
-    std::string name, title;
-    std::function<std::unique_ptr<Demo>(const DemoOptions&)> make;
-};
-const std::vector<DemoEntry>& demoRegistry();
 
 // Param helpers: lookup by name (throws rg::Error for an unknown name).
 Param& findParam(std::vector<Param>& params, const std::string& name);

@@ -1,0 +1,35 @@
+// Figures for the reports: framebuffers as images, images side by side, labelled grids.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "raycore/image.h"
+
+namespace rg::raster {
+class Framebuffer;
+}
+
+namespace rg::demos {
+
+// The emulated framebuffer's RGB as floats (bytes / 255), and optionally where it drew
+// (alpha > 0 → 1, else 0).
+ray::Image framebufferImage(const raster::Framebuffer& fb, ray::Image* drawn = nullptr);
+
+// `image` where mask > 0, black elsewhere (a reference cut to the object the technique draws).
+ray::Image masked(const ray::Image& image, const ray::Image& mask);
+
+// Images side by side (top-aligned) or stacked (left-aligned), `gap` white pixels apart.
+ray::Image hstack(const std::vector<ray::Image>& images, int gap = 4);
+ray::Image vstack(const std::vector<ray::Image>& images, int gap = 4);
+
+// A labelled grid: cells left to right, `columns` per row, each with its label rendered
+// above it (DejaVu Sans through OpenImageIO). Cells may differ in size.
+struct Cell {
+    ray::Image image;
+    std::string label;
+};
+ray::Image labelledGrid(const std::vector<Cell>& cells, int columns, int labelHeight = 18);
+
+}  // namespace rg::demos

@@ -1,0 +1,45 @@
+// The one registry of the papers: `retroglass reproduce`, `view`, `bench`, `compare` and the
+// gallery read this list and nothing else. Adding a paper is one line here (and its folder
+// in demos/CMakeLists.txt).
+#include "core/error.h"
+#include "reproduction.h"
+#include "reproduce_pem.h"
+
+namespace rg::demos {
+
+const std::vector<const Reproduction*>& reproductions() {
+    // In the order the project builds them. A paper not built yet is listed by name, paper
+    // and profile; `retroglass reproduce` and the gallery say so.
+    static const PlannedReproduction hybrid(
+        "hybrid",
+        "Hakura & Snyder, \"Realistic Reflections and Refractions on Graphics Hardware With "
+        "Hybrid Rendering and Layered Environment Maps\", EGWR 2001",
+        "geforce256");
+    static const PlannedReproduction lightfield(
+        "lightfield",
+        "Heidrich, Lensch, Cohen & Seidel, \"Light Field Techniques for Reflections and "
+        "Refractions\", EGWR 1999",
+        "sgi-octane-mxe");
+    static const PlannedReproduction impostors(
+        "impostors",
+        "Dancsik & Minarik, \"Real-time multi-bounce many-object ray tracing with "
+        "distance-normal impostors\"",
+        "geforce8800");
+    static const PlannedReproduction tir(
+        "tir", "Davis & Wyman, \"Interactive Refractions with Total Internal Reflection\", GI 2007",
+        "geforce8800");
+    static const std::vector<const Reproduction*> all = {&pem::pemReproduction(), &hybrid,
+                                                         &lightfield, &impostors, &tir};
+    return all;
+}
+
+const Reproduction& findReproduction(const std::string& name) {
+    std::string known;
+    for (const Reproduction* r : reproductions()) {
+        if (r->name() == name) return *r;
+        known += (known.empty() ? "" : ", ") + r->name();
+    }
+    throw Error("unknown reproduction '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace rg::demos
