@@ -15,7 +15,7 @@ glm::vec3 diffuseAlbedo(const Scene& scene, const SurfacePoint& s) {
 }
 
 glm::vec3 diffuseLighting(const Accel& accel, const SurfacePoint& s, glm::vec3 viewDir,
-                          RayCounts& counts) {
+                          RayCounts& counts, bool shadows) {
     const Scene& scene = accel.scene();
     glm::vec3 albedo = diffuseAlbedo(scene, s);
     if (albedo == glm::vec3(0.0f)) return albedo;
@@ -31,6 +31,10 @@ glm::vec3 diffuseLighting(const Accel& accel, const SurfacePoint& s, glm::vec3 v
         glm::vec3 l = toLight / dist;
         float cosTheta = glm::dot(n, l);
         if (cosTheta <= 0.0f || glm::dot(sideNg, l) <= 0.0f) continue;
+        if (!shadows) {
+            e += light.intensity * cosTheta;
+            continue;
+        }
         Ray shadow;
         SurfacePoint side = s;
         side.ng = sideNg;

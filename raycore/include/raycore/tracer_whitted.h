@@ -24,9 +24,9 @@ glm::vec3 whittedShade(const Accel& accel, const Ray& ray, const Hit& hit, const
                        int depth, int maxDepth, RayCounts& counts);
 
 // Direct lighting of the diffuse part at a surface point: albedo·(ambient + Σ visible
-// light intensity·max(0, n·l)).
+// light intensity·max(0, n·l)); every light counts as visible when !shadows.
 glm::vec3 diffuseLighting(const Accel& accel, const SurfacePoint& s, glm::vec3 viewDir,
-                          RayCounts& counts);
+                          RayCounts& counts, bool shadows = true);
 glm::vec3 diffuseAlbedo(const Scene& scene, const SurfacePoint& s);
 
 // The mirror direction at a surface point for a ray arriving along `dir`, about the
