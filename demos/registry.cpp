@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "reproduction.h"
 #include "reproduce_pem.h"
+#include "reproduce_tir.h"
 
 namespace rg::demos {
 
@@ -25,11 +26,9 @@ const std::vector<const Reproduction*>& reproductions() {
         "Dancsik & Minarik, \"Real-time multi-bounce many-object ray tracing with "
         "distance-normal impostors\"",
         "geforce8800");
-    static const PlannedReproduction tir(
-        "tir", "Davis & Wyman, \"Interactive Refractions with Total Internal Reflection\", GI 2007",
-        "geforce8800");
     static const std::vector<const Reproduction*> all = {&pem::pemReproduction(), &hybrid,
-                                                         &lightfield, &impostors, &tir};
+                                                         &lightfield, &impostors,
+                                                         &tir::tirReproduction()};
     return all;
 }
 

@@ -41,11 +41,14 @@ struct EyeVP {
     }
 };
 
-// A triangle given in clip coordinates (x, y; z = 0.5, w = 1): the environment's cover.
+// A triangle given in clip coordinates (x, y, z; w = 1): full-screen passes. The
+// environment is drawn at z = 1 − 2⁻²⁰, behind every surface (far is fitted 2 % beyond the
+// farthest vertex, whose window z stays below 1 − 10⁻⁵), so that with the depth test the
+// early test skips its program wherever geometry was drawn.
 struct ScreenVP {
     static constexpr int kVaryings = 0;
     glm::vec4 operator()(const TirVertex& v, raster::Varyings&) const {
-        return {v.position.x, v.position.y, 0.5f, 1.0f};
+        return {v.position.x, v.position.y, v.position.z, 1.0f};
     }
 };
 
@@ -68,6 +71,24 @@ struct EnvFP {
         const V3 d(ndcX * F(k.invPx), ndcY * F(k.invPy), F(-1.0f));
         const V3 w = eyeToWorld(k, d);
         const V4 t = q.sampleLevel(0, V4(w.x, w.y, w.z, F(0.0f)), F(0.0f), q.active());
+        q.output(0, V4(t.x, t.y, t.z, F(1.0f)));
+    }
+};
+
+// Pass 4's background when the maps have the frame's size: pass 3's nearby map copied
+// texel for texel (point sampled at the pixel centre), so the background is not drawn twice.
+struct CopyFP {
+    static constexpr int kVaryings = 0;
+    static constexpr uint32_t kTargets = 0b1;
+    static constexpr uint32_t kUnits = 0b1;
+    static constexpr bool kWritesDepth = false;
+    float invWidth = 1, invHeight = 1;
+    template <class Q>
+    void operator()(Q& q) const {
+        using F = typename Q::Float;
+        using V4 = typename Q::Vec4;
+        const V4 fc = q.fragCoord();
+        const V4 t = q.sampleLevel(0, V4(fc.x * F(invWidth), fc.y * F(invHeight), F(0.0f), F(0.0f)), F(0.0f), q.active());
         q.output(0, V4(t.x, t.y, t.z, F(1.0f)));
     }
 };

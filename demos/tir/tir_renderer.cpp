@@ -22,6 +22,11 @@ using raster::ColorTarget;
 using raster::DepthTarget;
 using raster::ProgramPrimitive;
 
+// One triangle over the whole target (clip x, y from −1 to 3), at depth z.
+constexpr float kBehind = 1.0f - 1.0f / 1048576.0f;
+const TirVertex kCover[3] = {{{-1, -1, 0.5f}, {}, {}, 0}, {{3, -1, 0.5f}, {}, {}, 0}, {{-1, 3, 0.5f}, {}, {}, 0}};
+const TirVertex kCoverBehind[3] = {{{-1, -1, kBehind}, {}, {}, 0}, {{3, -1, kBehind}, {}, {}, 0}, {{-1, 3, kBehind}, {}, {}, 0}};
+
 const Profile& g80() { return profile(ProfileId::GeForce8800); }
 
 tex::SamplerState pointSampler() {
@@ -269,8 +274,8 @@ void TirRenderer::bakeSurroundings(int size) {
         device_.setRenderTargets({&ct, 1}, DepthTarget{depth});
         device_.clearColor(0, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
         device_.clearDepth(1.0f);
-        drawEnvironment(v, size, size);
         drawNearby(v, false);
+        drawEnvironment(v, size, size);
     }
 }
 
@@ -291,16 +296,17 @@ void TirRenderer::passNormalDepth(const EyeVP& vp, float invFar, const std::shar
 }
 
 void TirRenderer::drawEnvironment(const View& v, int width, int height) {
-    raster::ProgramState st;  // no depth test or write: behind everything
+    // After the geometry, behind it: the depth test (no write) leaves it only the pixels
+    // nothing covers.
+    raster::ProgramState st;
+    st.depthTest = 1;
     device_.setState(st);
     EnvFP fp;
     fp.k = v.k;
     fp.invWidth = 1.0f / float(width);
     fp.invHeight = 1.0f / float(height);
     device_.setTexture(0, world_, tex::SamplerState{});
-    // One triangle over the whole target (clip x, y from −1 to 3).
-    static const TirVertex kCover[3] = {{{-1, -1, 0}, {}, {}, 0}, {{3, -1, 0}, {}, {}, 0}, {{-1, 3, 0}, {}, {}, 0}};
-    device_.draw(ScreenVP{}, fp, ProgramPrimitive::TriangleList, std::span<const TirVertex>(kCover, 3));
+    device_.draw(ScreenVP{}, fp, ProgramPrimitive::TriangleList, std::span<const TirVertex>(kCoverBehind, 3));
 }
 
 void TirRenderer::drawNearby(const View& v, bool depthInAlpha) {
@@ -358,17 +364,30 @@ TirFrame TirRenderer::render(const ray::Camera& camera, const TirSettings& s) {
     pass("nearby geometry: colour and depth", [&] {
         ColorTarget ct{nearbyMap_};
         device_.setRenderTargets({&ct, 1}, DepthTarget{mapDepth_});
-        device_.clearColor(0, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
         device_.clearDepth(1.0f);
         drawNearby(v, true);
+        drawEnvironment(v, mapW_, mapH_);  // the world behind, w = 1: empty for the searches
     });
+    const bool sameSize = mapW_ == frameW_ && mapH_ == frameH_;
     pass(s.method == Method::Ours ? "final: refraction with TIR" : "final: Wyman 2005", [&] {
         ColorTarget ct{frame_};
-        device_.setRenderTargets({&ct, 1}, DepthTarget{frameDepth_});
-        device_.clearColor(0, glm::vec4(0.0f));
-        device_.clearDepth(1.0f);
-        drawEnvironment(v, s.width, s.height);  // what no geometry covers: the world
-        drawNearby(v, false);  // the background at full size (the nearby map may be smaller)
+        if (sameSize) {
+            // The background is pass 3's map, with pass 3's depth buffer for the refractor's
+            // depth test.
+            device_.setRenderTargets({&ct, 1}, DepthTarget{mapDepth_});
+            device_.setState(raster::ProgramState{});
+            CopyFP copy;
+            copy.invWidth = 1.0f / float(frameW_);
+            copy.invHeight = 1.0f / float(frameH_);
+            device_.setTexture(0, nearbyMap_, pointSampler());
+            device_.draw(ScreenVP{}, copy, ProgramPrimitive::TriangleList, std::span<const TirVertex>(kCover, 3));
+        } else {
+            // Smaller maps (Figure 7): the background drawn again at the frame's size.
+            device_.setRenderTargets({&ct, 1}, DepthTarget{frameDepth_});
+            device_.clearDepth(1.0f);
+            drawNearby(v, false);
+            drawEnvironment(v, s.width, s.height);
+        }
         raster::ProgramState st;
         st.cull = raster::CullMode::CW;  // the refractor's front faces
         st.depthTest = st.depthWrite = 1;

@@ -31,8 +31,11 @@ uint32_t addMaterial(ray::Scene& s, const std::string& name, MaterialType type, 
 }
 
 // A mesh scaled to `height` units tall, standing on y = 0, centred on x = z = 0, turned by
-// `yawDegrees` about +y, then moved to `at`.
-glm::mat4 standing(const ray::Mesh& m, float height, float yawDegrees, glm::vec3 at) {
+// `yawDegrees` about +y, then moved to `at`. `upright` first turns models whose files stand
+// along another axis (CGAL's man.off lies along z).
+glm::mat4 standing(ray::Mesh& m, float height, float yawDegrees, glm::vec3 at,
+                   const glm::mat4& upright = glm::mat4(1.0f)) {
+    if (upright != glm::mat4(1.0f)) ray::transformMesh(m, upright);
     const ray::Bounds b = ray::computeBounds(m);
     const float s = height / (b.hi.y - b.lo.y);
     glm::mat4 xf = glm::translate(glm::mat4(1.0f), at);
@@ -110,7 +113,7 @@ TirScene makeTirScene(const std::string& name, bool paper) {
         ray::addRoom(s, {-5.0f, 0.0f, -5.0f}, {5.0f, 4.5f, 5.0f});
         const uint32_t clay = addMaterial(s, "teapot_clay", MaterialType::Diffuse, {0.75f, 0.35f, 0.25f});
         const uint32_t pot = ray::addTeapot(s, paper ? 16 : 8, clay, glm::mat4(1.0f));
-        const ray::Mesh& potMesh = s.meshes.at(s.objects.at(pot).mesh);
+        ray::Mesh& potMesh = s.meshes.at(s.objects.at(pot).mesh);
         s.objects.at(pot).transform = standing(potMesh, 1.1f, 30.0f, {-1.6f, 0.0f, -1.2f});
         ray::Mesh bunny = ray::loadMesh(ray::dataDir() / "bunny.obj");
         bunny.source = {"file", "bunny.obj", {}};
@@ -148,7 +151,9 @@ TirScene makeTirScene(const std::string& name, bool paper) {
         if (statue) {
             ray::Mesh venus = ray::loadCgalMesh("man");
             const uint32_t marble = addMaterial(s, "marble", MaterialType::Diffuse, {0.85f, 0.83f, 0.8f});
-            const glm::mat4 vx = standing(venus, 2.6f, 0.0f, {0.0f, 0.0f, -1.6f});
+            // man.off stands along +z: turned −90° about x, z becomes y.
+            const glm::mat4 vx = standing(venus, 2.6f, 0.0f, {0.0f, 0.0f, -1.6f},
+                                          glm::rotate(glm::mat4(1.0f), glm::radians(-90.0f), glm::vec3(1, 0, 0)));
             s.addObject("venus", s.addMesh(std::move(venus)), marble, vx);
             setImageWorld(s, "interior");
             t.camera = {"default", {0.0f, 1.5f, 4.6f}, {0.0f, 1.2f, 0.0f}, {0, 1, 0}, 40.0f};
