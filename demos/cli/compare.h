@@ -24,7 +24,7 @@ struct CompareOptions {
     std::vector<std::string> techniques;  // registry names to run (empty: all that apply)
     std::string outDir = "out/compare";
     Quality quality = Quality::Quick;
-    int width = 320, height = 240;
+    int width = 256, height = 256;  // square: tir's reference renders square images
     int threads = 0;
 };
 

@@ -19,6 +19,9 @@
 #include <utility>
 #include <vector>
 
+#include <glm/vec4.hpp>
+
+#include "core/color.h"
 #include "raycore/camera.h"
 
 namespace rg::raster {
@@ -52,6 +55,32 @@ struct OrbitRig {
     float minDistance = 0.1f, maxDistance = 100.0f;
 };
 
+// One render target of a programmable pass, as the pass inspector shows it: its texels as
+// floats (8-bit formats as v/255), and how to show them.
+struct TargetImage {
+    enum class Kind {
+        Color8,  // an RGBA8 target: shown as it is
+        Float,   // a float colour target: tone-mapped, its finite range [lo, hi] to [0, 1]
+        Depth,   // a depth value per texel (in x): grey over its finite range, far = white
+        Normal,  // a unit normal per texel (xyz): ½ + ½n as colour, zero-length as black
+    };
+    std::string name;
+    Kind kind = Kind::Color8;
+    int width = 0, height = 0;
+    std::vector<glm::vec4> values;  // row-major, row 0 at the top
+};
+
+// A programmable demo's pass: its label, the state it ran with, the targets it wrote.
+struct ProgrammablePass {
+    std::string label;
+    std::string state;
+    std::vector<TargetImage> targets;
+};
+
+// What the inspector displays for a target: RGBA8 at width × height (nearest), and the
+// range it mapped (for Float and Depth: "lo … hi"; empty otherwise).
+std::vector<Rgba8> displayTarget(const TargetImage& t, int width, int height, std::string* range);
+
 // Name/value lines the HUD prints under the device counters (e.g. the samples blended).
 using FrameNotes = std::vector<std::pair<std::string, std::string>>;
 
@@ -76,7 +105,14 @@ class Demo {
     virtual std::vector<std::string> passDescriptions() const = 0;
     // Renders one frame into `device` (beginFrame … endFrame). Must depend only on the
     // params, the camera, the device's profile and size: no clocks, no randomness.
+    // A demo of the programmable profile (geforce8800) draws its passes on its own
+    // raster::ProgrammableDevice and hands the finished frame to `device` with drawPixels,
+    // so the window, recordings, hashes and screenshots are the same for every demo.
     virtual FrameNotes render(raster::Device& device, const ray::Camera& camera) = 0;
+    // Programmable demos: keep each pass's targets during render() (the inspector is open),
+    // and the passes of the last frame so kept.
+    virtual void setCapturePasses(bool capture) {}
+    virtual std::vector<ProgrammablePass> programmablePasses() const { return {}; }
 };
 
 // Param helpers: lookup by name (throws rg::Error for an unknown name).

@@ -52,6 +52,7 @@ class TirReproduction final : public demos::Reproduction {
     std::unique_ptr<demos::Technique> prepare(const ray::Scene& scene,
                                               const std::vector<ray::Camera>& views,
                                               const demos::PrepareOptions& options) const override;
+    std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
     std::vector<demos::BenchCase> benchCases() const override;
 };
 

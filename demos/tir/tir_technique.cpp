@@ -6,6 +6,7 @@
 
 #include "figures.h"
 #include "reproduce_tir.h"
+#include "tir_demo.h"
 
 namespace rg::tir {
 
@@ -107,6 +108,10 @@ std::unique_ptr<demos::Technique> TirReproduction::prepare(const ray::Scene& sce
         throw Error("tir: compare renders square views (the reference tracer's images are square); "
                     "give --width equal to --height");
     return std::make_unique<TirTechnique>(scene, options);
+}
+
+std::unique_ptr<viewer::Demo> TirReproduction::makeDemo(const viewer::DemoOptions& options) const {
+    return std::make_unique<TirDemo>(options);
 }
 
 std::vector<demos::BenchCase> TirReproduction::benchCases() const {

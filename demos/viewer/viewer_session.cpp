@@ -203,10 +203,29 @@ void ViewerSession::render(bool capturePasses) {
         });
     else
         dev.setPassObserver({});
+    demo_->setCapturePasses(capturePasses);
     auto t0 = std::chrono::steady_clock::now();
     notes_ = demo_->render(dev, camera_.camera());
     frameMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     dev.setPassObserver({});
+    if (!capturePasses) return;
+    // A programmable demo's passes, one snapshot per target, before the hand-over pass.
+    std::vector<PassSnapshot> programmable;
+    for (const ProgrammablePass& p : demo_->programmablePasses())
+        for (const TargetImage& t : p.targets) {
+            PassSnapshot s;
+            s.record.label = p.label + ": " + t.name;
+            s.record.drawCalls = 0;
+            s.width = dev.framebuffer().width();
+            s.height = dev.framebuffer().height();
+            s.color = displayTarget(t, s.width, s.height, &s.range);
+            s.state = p.state;
+            s.target = t.name;
+            s.image = t;
+            programmable.push_back(std::move(s));
+        }
+    snapshots_.insert(snapshots_.begin(), std::make_move_iterator(programmable.begin()),
+                      std::make_move_iterator(programmable.end()));
 }
 
 uint64_t ViewerSession::frameHash() const {

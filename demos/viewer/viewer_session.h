@@ -48,8 +48,12 @@ const char* actionVerb(Action::Kind kind);
 struct PassSnapshot {
     raster::PassRecord record;
     int width = 0, height = 0;
-    std::vector<Rgba8> color;
+    std::vector<Rgba8> color;  // what the inspector displays, at the frame's size
     std::string state;  // profile, pipeline state, texture stages, bound textures
+    // A programmable pass's target: its texels (hovering shows them) and the range the
+    // display mapped; for fixed-function passes `values` is empty (the bytes are the values).
+    std::string target, range;
+    TargetImage image;
 };
 
 // The device state as text: profile, depth/blend/cull, active texture stages with their

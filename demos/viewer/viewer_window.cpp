@@ -305,6 +305,20 @@ int runWindow(ViewerSession& session, const ViewOptions& o) {
                     if (ImGui::SliderInt("after pass", &shown, 1, int(snaps.size()))) inspectPass = shown - 1;
                     const PassSnapshot& s = snaps[size_t(inspectPass)];
                     ImGui::TextWrapped("%s (%" PRIu64 " draws)", s.record.label.c_str(), s.record.drawCalls);
+                    if (!s.range.empty()) ImGui::Text("shown range %s", s.range.c_str());
+                    // The value under the mouse, in the target's own texels.
+                    int mx = 0, my = 0;
+                    SDL_GetMouseState(&mx, &my);
+                    if (mx >= 0 && my >= 0 && mx < fbW && my < fbH) {
+                        if (!s.image.values.empty()) {
+                            const int tx = mx * s.image.width / fbW, ty = my * s.image.height / fbH;
+                            const glm::vec4 v = s.image.values[size_t(ty) * size_t(s.image.width) + size_t(tx)];
+                            ImGui::Text("texel (%d, %d) = (%.5g, %.5g, %.5g, %.5g)", tx, ty, v.x, v.y, v.z, v.w);
+                        } else {
+                            const Rgba8 c = s.color[size_t(my) * size_t(fbW) + size_t(mx)];
+                            ImGui::Text("pixel (%d, %d) = (%d, %d, %d, %d)", mx, my, c.r, c.g, c.b, c.a);
+                        }
+                    }
                     ImGui::PushTextWrapPos(0.0f);
                     ImGui::TextUnformatted(s.state.c_str());
                     ImGui::PopTextWrapPos();

@@ -292,3 +292,66 @@ TEST(ViewerSessionAnyDemo, StepAndNearestReachTheSamples) {
     s.apply({Action::Kind::Reset, 0, 0, 0, ""});
     EXPECT_NEAR(s.camera().azimuthDegrees, 30.0f, 1e-3f);
 }
+
+// The programmable profile in the viewer: the tir demo draws its passes on its own
+// geforce8800 device and hands the frame over by drawPixels.
+#include "tir_demo.h"
+
+TEST(ViewerProgrammable, TheTirFrameIsHandedOverAsItIsAndItsMapsAreInspected) {
+    rg::viewer::DemoOptions o;
+    o.scene = "prism";
+    o.threads = 2;
+    auto demo = std::make_unique<rg::tir::TirDemo>(o);
+    rg::tir::TirDemo* tir = demo.get();
+    ViewerSession s(std::move(demo), "", 2);
+    EXPECT_EQ(s.profile(), "geforce8800");
+    s.apply({Action::Kind::Param, 0, 0, 2, "bounces"});
+    s.render(true);
+    // The framebuffer holds the programmable frame byte for byte: the same settings on a
+    // renderer of its own give the same bytes.
+    rg::tir::TirScene scene = rg::tir::makeTirScene("prism");
+    rg::tir::TirRenderer r(scene, 1);
+    r.render(s.camera().camera(), tir->settings());
+    const rg::Rgba8* px = const_cast<rg::tex::Texture&>(r.frameTexture()).renderData8(0, 0);
+    const auto& fb = s.device().framebuffer();
+    int differ = 0;
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x) {
+            const rg::Rgba8 a = fb.pixel(x, y), b = px[size_t(y) * size_t(fb.width()) + size_t(x)];
+            differ += (a.r != b.r || a.g != b.g || a.b != b.b || a.a != b.a) ? 1 : 0;
+        }
+    EXPECT_EQ(differ, 0);
+    // The inspector: both maps of passes 1–3 and the frame, then the hand-over pass.
+    const auto& snaps = s.passSnapshots();
+    ASSERT_EQ(snaps.size(), 8u);
+    EXPECT_NE(snaps[0].record.label.find("back faces"), std::string::npos) << snaps[0].record.label;
+    EXPECT_EQ(snaps[0].image.kind, TargetImage::Kind::Normal);
+    EXPECT_EQ(snaps[1].image.kind, TargetImage::Kind::Depth);
+    EXPECT_FALSE(snaps[1].range.empty());  // the depth range shown
+    EXPECT_EQ(snaps[4].image.kind, TargetImage::Kind::Float);
+    EXPECT_FALSE(snaps[4].range.empty());
+    EXPECT_EQ(snaps[6].image.kind, TargetImage::Kind::Color8);
+    for (const auto& sn : snaps) EXPECT_EQ(sn.color.size(), size_t(fb.width()) * size_t(fb.height()));
+    // A back-face texel's value is the map's: a unit normal facing away from the eye.
+    const auto& n = snaps[0].image;
+    int normals = 0;
+    for (const glm::vec4& v : n.values)
+        if (v.x != 0 || v.y != 0 || v.z != 0) {
+            ++normals;
+            EXPECT_NEAR(glm::length(glm::vec3(v)), 1.0f, 2e-3f);
+        }
+    EXPECT_GT(normals, 1000);
+    // Parameters change the frame; another profile is refused with the reason.
+    const uint64_t two = s.frameHash();
+    s.apply({Action::Kind::Param, 0, 0, 0, "bounces"});
+    s.render(false);
+    EXPECT_NE(s.frameHash(), two);
+    EXPECT_TRUE(s.passSnapshots().empty());
+    try {
+        s.apply({Action::Kind::Profile, 0, 0, 0, "geforce256"});
+        FAIL() << "tir cannot run on a GeForce 256";
+    } catch (const rg::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("geforce8800"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(s.profile(), "geforce8800");
+}

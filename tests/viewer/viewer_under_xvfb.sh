@@ -5,12 +5,18 @@
 # framebuffer to equal the headless frame byte for byte, and (3) the window's pixels over
 # the framebuffer region to equal that frame's RGB.
 #
-#   viewer_under_xvfb.sh RETROGLASS PNG_COMPARE WORKDIR
+#   viewer_under_xvfb.sh RETROGLASS PNG_COMPARE WORKDIR [DEMO WIDTH HEIGHT [SCENE]]
 # WORKDIR keeps out/pem (the quick precompute runs there on the first run) and the results.
+# DEMO defaults to pem at 640×480; tir (the programmable profile) runs at 512×512.
 set -euo pipefail
 rg="$1"
 compare="$2"
 work="$3"
+demo="${4:-pem}"
+width="${5:-640}"
+height="${6:-480}"
+scene=()
+[ -n "${7:-}" ] && scene=(--scene "$7")
 
 fail() { echo "FAIL: $*" >&2; exit 1; }
 for tool in Xvfb xdotool; do
@@ -45,9 +51,9 @@ echo "Xvfb on $DISPLAY"
 
 # ---- the window, driven by keys ------------------------------------------------------------
 # --frames bounds the run should the keys never arrive (then the checks below fail).
-"$rg" view pem --record run/input.txt --shots run/shots --frames 600 >run/view.log 2>&1 &
+"$rg" view "$demo" "${scene[@]}" --record run/input.txt --shots run/shots --frames 600 >run/view.log 2>&1 &
 viewer=$!
-wid=$(xdotool search --sync --onlyvisible --name "retroglass view pem" | head -1)
+wid=$(xdotool search --sync --onlyvisible --name "retroglass view $demo" | head -1)
 [ -n "$wid" ] || fail "no viewer window appeared"
 xdotool windowfocus --sync "$wid"
 # Between two samples (3 passes), a sample step, off the plane of the samples; a left
@@ -63,15 +69,15 @@ cat run/view.log
 grep -q " screenshot$" run/input.txt || fail "no screenshot in the recording (keys not delivered?)"
 grep -q " orbit " run/input.txt || fail "no orbit in the recording (keys not delivered?)"
 grep -q " dolly " run/input.txt || fail "no dolly in the recording (wheel not delivered?)"
-shot=$(ls run/shots/pem_*.png | grep -v _window | head -1)
-frame=$(basename "$shot" .png | sed 's/pem_//')
-[ -f "run/shots/pem_${frame}_window.png" ] || fail "no window screenshot"
+shot=$(ls run/shots/${demo}_*.png | grep -v _window | head -1)
+frame=$(basename "$shot" .png | sed "s/${demo}_//")
+[ -f "run/shots/${demo}_${frame}_window.png" ] || fail "no window screenshot"
 
 # ---- headless replay -----------------------------------------------------------------------
-"$rg" view pem --replay run/input.txt --headless --out run/replay ||
+"$rg" view "$demo" --replay run/input.txt --headless --out run/replay ||
     fail "headless replay differs from the window (frame hashes above)"
 "$compare" "$shot" "run/replay/screenshot_${frame}.png" ||
-    fail "screenshot framebuffer != headless frame $frame; reproduce: $rg view pem --replay $work/run/input.txt --headless --out /tmp/replay"
-"$compare" "run/shots/pem_${frame}_window.png" "run/replay/screenshot_${frame}.png" --rgb --crop 640 480 ||
+    fail "screenshot framebuffer != headless frame $frame; reproduce: $rg view $demo --replay $work/run/input.txt --headless --out /tmp/replay"
+"$compare" "run/shots/${demo}_${frame}_window.png" "run/replay/screenshot_${frame}.png" --rgb --crop "$width" "$height" ||
     fail "window pixels over the framebuffer region != emulated framebuffer RGB"
 echo "PASS: window frame $frame == headless replay, $(grep -c hash run/input.txt) frame hashes equal"
