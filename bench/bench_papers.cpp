@@ -10,8 +10,8 @@
 namespace rg::bench {
 namespace {
 
-void runCase(benchmark::State& state, const demos::BenchCase& c, int threads) {
-    auto frame = c.setup(threads);
+void runCase(benchmark::State& state, const demos::BenchCase& c, int threads, bool peer) {
+    auto frame = peer ? c.setupPeer(threads) : c.setup(threads);
     std::map<std::string, double> sums;
     int64_t frames = 0;
     for (auto _ : state) {
@@ -20,7 +20,8 @@ void runCase(benchmark::State& state, const demos::BenchCase& c, int threads) {
     }
     state.SetItemsProcessed(state.iterations());
     state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
-    for (const auto& [k, v] : c.paper) state.counters[k] = v;
+    if (!peer)
+        for (const auto& [k, v] : c.paper) state.counters[k] = v;
     for (const auto& [k, v] : sums) state.counters[k] = frames ? v / double(frames) : 0.0;
 }
 
@@ -29,12 +30,15 @@ const bool registered = [] {
     if (allThreads() > 1) threadCounts.push_back(allThreads());
     for (const demos::Reproduction* r : demos::reproductions())
         for (const demos::BenchCase& c : r->benchCases())
-            for (int t : threadCounts) {
-                std::string name = c.name + "/retroglass/threads:" + std::to_string(t);
-                benchmark::RegisterBenchmark(name.c_str(), [c, t](benchmark::State& s) {
-                    runCase(s, c, t);
-                })->Unit(benchmark::kMillisecond)->UseRealTime();
-            }
+            for (int t : threadCounts)
+                for (bool peer : {false, true}) {
+                    if (peer && !c.setupPeer) continue;
+                    std::string name = c.name + "/" + (peer ? c.peer : std::string("retroglass")) +
+                                       "/threads:" + std::to_string(t);
+                    benchmark::RegisterBenchmark(name.c_str(), [c, t, peer](benchmark::State& s) {
+                        runCase(s, c, t, peer);
+                    })->Unit(benchmark::kMillisecond)->UseRealTime();
+                }
     return true;
 }();
 

@@ -101,7 +101,12 @@ struct BenchCase {
     std::string unit = "frames";          // what one item is
     std::map<std::string, double> paper;  // counters to report beside ours, e.g. paper_fps
     // Called with a thread count: builds the fixture and returns the frame to time.
-    std::function<std::function<std::map<std::string, double>()>(int threads)> setup;
+    using Setup = std::function<std::function<std::map<std::string, double>()>(int threads)>;
+    Setup setup;
+    // Optional: the same frame by a peer in the same run (e.g. "raycore": the ray tracer on
+    // the same rays), registered as <name>/<peer>/threads:N so the harness prints the ratio.
+    std::string peer;
+    Setup setupPeer;
 };
 
 class Reproduction {

@@ -3,6 +3,8 @@
 #include <chrono>
 
 #include "core/error.h"
+#include "raycore/accel.h"
+#include "raycore/tracer_refract_tir.h"
 
 #include "figures.h"
 #include "reproduce_tir.h"
@@ -88,6 +90,33 @@ demos::BenchCase frameCase(const std::string& scene, int size, int bounces, doub
             std::map<std::string, double> m{{"fetches_per_fragment", fr.fetchesPerRefractiveFragment}};
             for (size_t i = 0; i < fr.passes.size(); ++i) m["pass" + std::to_string(i + 1) + "_ms"] = fr.passes[i].ms;
             return m;
+        });
+    };
+    // The peer: raycore's refraction-and-TIR tracer on the same view, one ray per pixel,
+    // the same bounce budget (the exact answer the image-space method approximates).
+    c.peer = "raycore";
+    c.setupPeer = [scene, size, bounces](int threads) {
+        struct Fixture {
+            TirScene scene;
+            ray::Scene without;
+            std::unique_ptr<ray::Accel> accel, accelWithout;
+            ray::RenderOptions render;
+            ray::TirPathOptions paths;
+        };
+        auto f = std::make_shared<Fixture>();
+        f->scene = makeTirScene(scene);
+        f->without = f->scene.scene;
+        f->without.objects.erase(f->without.objects.begin() + f->scene.refractor);
+        f->accel = std::make_unique<ray::Accel>(f->scene.scene);
+        if (!f->without.objects.empty()) f->accelWithout = std::make_unique<ray::Accel>(f->without);
+        f->render.width = f->render.height = size;
+        f->render.threads = threads;
+        f->paths.refractor = f->scene.refractor;
+        f->paths.maxSegments = bounces;
+        return std::function<std::map<std::string, double>()>([f] {
+            const ray::TirImages im = ray::renderTirPaths(*f->accel, f->accelWithout.get(), f->scene.camera,
+                                                          f->render, f->paths);
+            return std::map<std::string, double>{{"checksum", double(im.color.pixels[0])}};
         });
     };
     return c;
