@@ -61,6 +61,24 @@ TEST(PemClaims, EveryReportedClaimHoldsAtQuickQuality) {
     fs::remove_all(o.outDir);
 }
 
+// The claims test can fail: with the inference's smoothness weight wrong by ×10⁴ (the EMs
+// smeared towards their mean), the report's claims no longer all hold.
+TEST(PemClaims, AWrongRegulariserBreaksAClaim) {
+    demos::ReproduceOptions o;
+    o.outDir = fs::path(RETROGLASS_BUILD_DIR) / "test-out" /
+               ("pem-wrong-" + std::to_string(::getpid()));
+    fs::remove_all(o.outDir);
+    PemSettings s = settingsFor(demos::Quality::Quick);
+    s.viewerFrames = 1;
+    s.inference.smoothness *= 1e4;
+    nlohmann::json r = runPem(s, o);
+    std::vector<std::string> broken;
+    for (const auto& c : r["claims"])
+        if (!c["holds"].get<bool>()) broken.push_back(c["id"].get<std::string>());
+    EXPECT_FALSE(broken.empty()) << "every claim still holds with a smoothness weight ×10⁴";
+    fs::remove_all(o.outDir);
+}
+
 TEST(PemClaims, HoldAtASmallSetting) {
     demos::ReproduceOptions o;
     o.outDir = fs::path(RETROGLASS_BUILD_DIR) / "test-out" / "pem-small";
