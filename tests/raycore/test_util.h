@@ -7,6 +7,7 @@
 #include <string>
 
 #include "raycore/image.h"
+#include "scratch_dir.h"
 
 namespace rg::ray::test {
 
@@ -21,13 +22,9 @@ inline uint64_t hashImage(const Image& img) {
     return h;
 }
 
-// A fresh folder under the system temp dir for one test.
-inline std::filesystem::path tempDir(const std::string& name) {
-    auto d = std::filesystem::temp_directory_path() / ("retroglass_raycore_" + name);
-    std::filesystem::remove_all(d);
-    std::filesystem::create_directories(d);
-    return d;
-}
+// A fresh folder of the running test and process alone (tests/scratch_dir.h): a fixed
+// folder under /tmp was shared by parallel tests and by checkouts, and deleted under them.
+inline std::filesystem::path tempDir(const std::string& name) { return rg::test::scratchDir(name); }
 
 inline void writeText(const std::filesystem::path& p, const std::string& text) {
     std::ofstream(p) << text;

@@ -6,13 +6,21 @@
 # the framebuffer region to equal that frame's RGB.
 #
 #   viewer_under_xvfb.sh RETROGLASS PNG_COMPARE WORKDIR
-# WORKDIR keeps out/pem (the quick precompute runs there on the first run) and the results.
+# WORKDIR (the build folder's, so never another checkout's) keeps out/pem, the quick
+# precompute made by the first run and read by the later ones, and run-PID/, this run's
+# recording, screenshots and replay: removed when the run passes, kept when it fails.
+# Runs on one WORKDIR at the same time (two ctest runs in one build folder) take turns
+# (flock): the first would be writing out/pem while the second read it.
 set -euo pipefail
 rg="$1"
 compare="$2"
 work="$3"
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
+fail() {
+    echo "FAIL: $*" >&2
+    [ -z "${run:-}" ] || echo "this run's files are kept in $work/$run" >&2
+    exit 1
+}
 for tool in Xvfb xdotool; do
     command -v "$tool" >/dev/null ||
         fail "'$tool' is not installed. Install the Debian packages xvfb xdotool" \
@@ -21,11 +29,14 @@ done
 
 mkdir -p "$work"
 cd "$work"
-rm -rf run && mkdir run
+exec 9>lock  # held until this script exits (the background processes below close it)
+flock 9
+run="run-$$"
+rm -rf "$run" && mkdir "$run"
 
 # ---- a display of our own: Xvfb picks a free number and writes it when it is ready ------
-exec 5> run/display
-Xvfb -displayfd 5 -screen 0 1280x1024x24 -nolisten tcp >run/xvfb.log 2>&1 &
+exec 5> "$run"/display
+Xvfb -displayfd 5 -screen 0 1280x1024x24 -nolisten tcp >"$run"/xvfb.log 2>&1 9>&- &
 xvfb=$!
 exec 5>&-
 viewer=
@@ -35,17 +46,17 @@ cleanup() {
 }
 trap cleanup EXIT
 for _ in $(seq 1 200); do
-    [ -s run/display ] && break
-    kill -0 "$xvfb" 2>/dev/null || fail "Xvfb exited: $(cat run/xvfb.log)"
+    [ -s "$run"/display ] && break
+    kill -0 "$xvfb" 2>/dev/null || fail "Xvfb exited: $(cat "$run"/xvfb.log)"
     sleep 0.1
 done
-[ -s run/display ] || fail "Xvfb did not report a display"
-export DISPLAY=":$(head -1 run/display)"
+[ -s "$run"/display ] || fail "Xvfb did not report a display"
+export DISPLAY=":$(head -1 "$run"/display)"
 echo "Xvfb on $DISPLAY"
 
 # ---- the window, driven by keys ------------------------------------------------------------
 # --frames bounds the run should the keys never arrive (then the checks below fail).
-"$rg" view pem --record run/input.txt --shots run/shots --frames 600 >run/view.log 2>&1 &
+"$rg" view pem --record "$run"/input.txt --shots "$run"/shots --frames 600 >"$run"/view.log 2>&1 9>&- &
 viewer=$!
 wid=$(xdotool search --sync --onlyvisible --name "retroglass view pem" | head -1)
 [ -n "$wid" ] || fail "no viewer window appeared"
@@ -56,22 +67,23 @@ xdotool key --delay 50 Right Right Page_Up Right Up Up
 xdotool mousemove --window "$wid" 320 240 mousedown 1 mousemove --window "$wid" 300 230 \
     mousemove --window "$wid" 290 236 mouseup 1 click 4
 xdotool key --delay 50 F12 Escape
-wait "$viewer" || { cat run/view.log; fail "the viewer exited with an error"; }
+wait "$viewer" || { cat "$run"/view.log; fail "the viewer exited with an error"; }
 viewer=
-cat run/view.log
+cat "$run"/view.log
 
-grep -q " screenshot$" run/input.txt || fail "no screenshot in the recording (keys not delivered?)"
-grep -q " orbit " run/input.txt || fail "no orbit in the recording (keys not delivered?)"
-grep -q " dolly " run/input.txt || fail "no dolly in the recording (wheel not delivered?)"
-shot=$(ls run/shots/pem_*.png | grep -v _window | head -1)
+grep -q " screenshot$" "$run"/input.txt || fail "no screenshot in the recording (keys not delivered?)"
+grep -q " orbit " "$run"/input.txt || fail "no orbit in the recording (keys not delivered?)"
+grep -q " dolly " "$run"/input.txt || fail "no dolly in the recording (wheel not delivered?)"
+shot=$(ls "$run"/shots/pem_*.png | grep -v _window | head -1)
 frame=$(basename "$shot" .png | sed 's/pem_//')
-[ -f "run/shots/pem_${frame}_window.png" ] || fail "no window screenshot"
+[ -f "$run/shots/pem_${frame}_window.png" ] || fail "no window screenshot"
 
 # ---- headless replay -----------------------------------------------------------------------
-"$rg" view pem --replay run/input.txt --headless --out run/replay ||
+"$rg" view pem --replay "$run"/input.txt --headless --out "$run"/replay ||
     fail "headless replay differs from the window (frame hashes above)"
-"$compare" "$shot" "run/replay/screenshot_${frame}.png" ||
-    fail "screenshot framebuffer != headless frame $frame; reproduce: $rg view pem --replay $work/run/input.txt --headless --out /tmp/replay"
-"$compare" "run/shots/pem_${frame}_window.png" "run/replay/screenshot_${frame}.png" --rgb --crop 640 480 ||
+"$compare" "$shot" "$run/replay/screenshot_${frame}.png" ||
+    fail "screenshot framebuffer != headless frame $frame; reproduce: $rg view pem --replay $work/$run/input.txt --headless --out $work/$run/replay-again"
+"$compare" "$run/shots/pem_${frame}_window.png" "$run/replay/screenshot_${frame}.png" --rgb --crop 640 480 ||
     fail "window pixels over the framebuffer region != emulated framebuffer RGB"
-echo "PASS: window frame $frame == headless replay, $(grep -c hash run/input.txt) frame hashes equal"
+echo "PASS: window frame $frame == headless replay, $(grep -c hash "$run"/input.txt) frame hashes equal"
+cd "$work" && rm -rf "$run"
