@@ -1,11 +1,15 @@
 // Helpers shared by the raycore tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 
+#include "core/error.h"
 #include "raycore/image.h"
 #include "scratch_dir.h"
 
@@ -25,6 +29,19 @@ inline uint64_t hashImage(const Image& img) {
 // A fresh folder of the running test and process alone (tests/scratch_dir.h): a fixed
 // folder under /tmp was shared by parallel tests and by checkouts, and deleted under them.
 inline std::filesystem::path tempDir(const std::string& name) { return rg::test::scratchDir(name); }
+
+// Runs f, expects an rg::Error whose message contains every one of `parts`.
+template <class F>
+void expectError(F f, std::initializer_list<std::string> parts) {
+    try {
+        f();
+        ADD_FAILURE() << "no error raised";
+    } catch (const Error& e) {
+        for (const std::string& p : parts)
+            EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
+                << "message '" << e.what() << "' lacks '" << p << "'";
+    }
+}
 
 inline void writeText(const std::filesystem::path& p, const std::string& text) {
     std::ofstream(p) << text;
