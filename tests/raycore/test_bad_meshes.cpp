@@ -7,7 +7,9 @@
 
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
+#include <tuple>
 
 #include "core/error.h"
 #include "raycore/accel.h"
@@ -60,8 +62,8 @@ TEST(BadMeshes, OneTriangleOfNonZeroAreaIsEnoughAndTheOthersAreKept) {
                         {0, 0, 0}, {1, 1, 1}, {2, 2, 2}});
     validateMesh(m, "mixed");
     EXPECT_EQ(m.triangleCount(), 3u);
-    // Real meshes carry degenerate triangles: the teapot's patches collapse to points (the
-    // lid's knob, the bottom), and it must still load whole.
+    // Real meshes carry degenerate triangles: the teapot's patches meet in points at the top
+    // of the lid and the middle of the bottom, and it must still load whole.
     const Mesh pot = tessellateTeapot(loadTeapotPatches(dataDir() / "teapot.txt"), 6);
     int degenerate = 0;
     for (size_t t = 0; t < pot.triangleCount(); ++t) {
@@ -313,6 +315,34 @@ TEST(BadMeshes, TransformsThatCollapseOrOverflowAMesh) {
     expectError([&] { sceneWith(R"({"name": "a", "shape": "cube", "material": "m", "transform": {"translate": [-2e38, 0, 0]}})",
                                 R"({"name": "b", "shape": "cube", "material": "m", "transform": {"translate": [2e38, 0, 0]}})"); },
                 {"shapes.json: the objects together: extent not finite in float arithmetic (x from -2e+38 to 2e+38)"});
+}
+
+// The fuzz seeds of bad meshes (fuzz/corpus/mesh_loader, fuzz/corpus/scene_json) reach the
+// rules above rather than failing earlier, so that the fuzzers start from these paths.
+TEST(BadMeshes, FuzzSeedsRaiseTheirErrors) {
+    const auto dir = test::tempDir("seeds");
+    const std::filesystem::path corpus = test::sourceDir() / "fuzz" / "corpus";
+    // The mesh target's first byte picks the extension; the rest is the file.
+    for (const auto& [seed, file, problem] :
+         std::initializer_list<std::tuple<const char*, const char*, const char*>>{
+             {"zero-area-triangles.obj.bin", "seed.obj", "no triangle of non-zero area"},
+             {"extent-past-float.ply.bin", "seed.ply", "extent not finite in float arithmetic"},
+             {"zero-area-part.gltf.bin", "seed.gltf", "part 'label': no triangle of non-zero area"}}) {
+        SCOPED_TRACE(seed);
+        std::ifstream in(corpus / "mesh_loader" / seed, std::ios::binary);
+        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        ASSERT_GT(bytes.size(), 1u);
+        writeBytes(dir / file, bytes.substr(1));
+        expectError([&] { loadMesh(dir / file); }, {file, problem});
+    }
+    for (const auto& [seed, problem] : std::initializer_list<std::pair<const char*, const char*>>{
+             {"shape-of-no-area.json", "part 'wall_-x': no triangle of non-zero area"},
+             {"shape-count-negative.json", "major_segments must be a whole number"},
+             {"transform-past-float.json", "object 'b' as placed by its transform: extent not finite"},
+             {"transform-scale-zero.json", "object 'gone' as placed by its transform: no triangle"}}) {
+        SCOPED_TRACE(seed);
+        expectError([&] { loadSceneJson(corpus / "scene_json" / seed); }, {seed, problem});
+    }
 }
 
 }  // namespace

@@ -66,8 +66,9 @@ struct Bounds {
 //    |n| = sqrt(n·n), every operation in float as Accel's face normal and completeMesh's
 //    vertex normals compute them, give 0 < |n| < ∞; where |n| is 0 or ∞ the normal cannot
 //    be normalised. Degenerate triangles among good ones are kept, as before: meshes carry
-//    a few (the teapot's patches collapse to points at the spout, lid and bottom), and
-//    dropping them would renumber the triangles that parts and hits refer to.
+//    a few (the teapot's patches meet in points at the top of the lid and the middle of
+//    the bottom: 152 of its 40,000 triangles), and dropping them would renumber the
+//    triangles that parts and hits refer to.
 void validateMesh(const Mesh& mesh, const std::string& what);
 
 // validateMesh, then its two geometric rules again on the mesh as `transform` places it
