@@ -135,7 +135,8 @@ void limitTriangles(double triangles) {
                     " triangles, more than " + std::to_string(int64_t(kMaxShapeTriangles)));
 }
 
-// A built-in shape from its parameters; rg::Error without the file's name on bad ones.
+// A built-in shape from its parameters. Bad ones raise rg::Error saying which parameter;
+// meshFromSource adds the file and the object.
 Mesh makeShape(const MeshSource& s) {
     const auto& p = s.params;
     if (s.kind == "sphere") {
@@ -195,7 +196,7 @@ std::string paramsText(const MeshSource& s) {
 }
 
 // The mesh an object names: a file (loadMesh has validated it) or a built-in shape, which
-// is validated here with its parameters in the message (a sphere of radius 0 has no
+// is validated here with its parameters in the message (a cube of half_size 0 has no
 // triangle of non-zero area). Every error names the scene file and the object.
 Mesh meshFromSource(const Ctx& c, const MeshSource& s, const std::string& where) {
     static const std::set<std::string> shapes = {"sphere", "cube",  "torus",      "cylinder",   "room",
