@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <tuple>
@@ -25,6 +26,76 @@ int Mesh::findPart(const std::string& partName) const {
     return -1;
 }
 
+namespace {
+
+std::string number(float v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", double(v));
+    return buf;
+}
+
+bool finite(const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+// The triangles of each part, or of the whole mesh as one range named `what` alone.
+struct TriangleRange {
+    std::string label;
+    size_t first, count;
+};
+std::vector<TriangleRange> triangleRanges(const Mesh& mesh, const std::string& what) {
+    if (mesh.parts.empty()) return {{what, 0, mesh.triangleCount()}};
+    std::vector<TriangleRange> out;
+    for (const MeshPart& p : mesh.parts)
+        out.push_back({what + ": part '" + p.name + "'", p.firstTriangle, p.triangleCount});
+    return out;
+}
+
+// "no triangle of non-zero area (...)", saying what the `count` triangles of a part are:
+// `zero` of them with |n| = 0, the others with |n| past float's range (mesh.h).
+std::string noAreaMessage(size_t count, size_t zero) {
+    const std::string n = "a float cross product (p1 − p0) × (p2 − p0)";
+    const std::string zeroLength = n + " of zero length";
+    const std::string tooLong = n + " whose length overflows float";
+    const std::string all = count == 1 ? "its one triangle has "
+                                       : "each of its " + std::to_string(count) + " triangles has ";
+    if (zero == count) return "no triangle of non-zero area (" + all + zeroLength + ")";
+    if (zero == 0) return "no triangle of finite, non-zero area (" + all + tooLong + ")";
+    return "no triangle of finite, non-zero area (of its " + std::to_string(count) + " triangles, " +
+           std::to_string(zero) + " have " + zeroLength + ", the other " +
+           std::to_string(count - zero) + " " + tooLong + ")";
+}
+
+// The two geometric rules of validateMesh (mesh.h) on `positions`, the mesh's own or placed
+// by a transform; the structure (indices in range, parts covering the triangles) is checked
+// already. Returns the bounds of `positions`.
+Bounds validateGeometry(const Mesh& mesh, const std::vector<glm::vec3>& positions,
+                        const std::string& what) {
+    Bounds b;
+    for (const glm::vec3& p : positions) {
+        b.lo = glm::min(b.lo, p);
+        b.hi = glm::max(b.hi, p);
+    }
+    validateExtent(b, what);
+    for (const TriangleRange& r : triangleRanges(mesh, what)) {
+        if (r.count == 0) throw Error(r.label + ": the part has no triangles");
+        bool found = false;
+        size_t zero = 0;
+        for (size_t t = r.first; t < r.first + r.count && !found; ++t) {
+            const glm::vec3& p0 = positions[mesh.indices[3 * t]];
+            const glm::vec3 n = glm::cross(positions[mesh.indices[3 * t + 1]] - p0,
+                                           positions[mesh.indices[3 * t + 2]] - p0);
+            const float len = glm::length(n);
+            found = len > 0.0f && std::isfinite(len);
+            // With finite positions and extent the edges are finite, so a NaN here is an
+            // overflow too (∞ − ∞ inside the cross product).
+            if (!found && len == 0.0f) ++zero;
+        }
+        if (!found) throw Error(r.label + ": " + noAreaMessage(r.count, zero));
+    }
+    return b;
+}
+
+}  // namespace
+
 void validateMesh(const Mesh& mesh, const std::string& what) {
     if (mesh.positions.empty() || mesh.indices.empty())
         throw Error(what + ": mesh has no triangles");
@@ -32,8 +103,7 @@ void validateMesh(const Mesh& mesh, const std::string& what) {
         throw Error(what + ": index count " + std::to_string(mesh.indices.size()) +
                     " is not a multiple of 3");
     for (size_t i = 0; i < mesh.positions.size(); ++i) {
-        const glm::vec3& p = mesh.positions[i];
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        if (!finite(mesh.positions[i]))
             throw Error(what + ": vertex " + std::to_string(i) +
                         " has a non-finite (NaN or infinite) position");
     }
@@ -57,6 +127,41 @@ void validateMesh(const Mesh& mesh, const std::string& what) {
     if (!mesh.parts.empty() && next != mesh.triangleCount())
         throw Error(what + ": parts cover " + std::to_string(next) + " of " +
                     std::to_string(mesh.triangleCount()) + " triangles");
+    validateGeometry(mesh, mesh.positions, what);
+}
+
+Bounds validatePlacedMesh(const Mesh& mesh, const glm::mat4& m, const std::string& what) {
+    validateMesh(mesh, what);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r]))
+                throw Error(what + ": its transform has a non-finite entry (row " + std::to_string(r) +
+                            ", column " + std::to_string(c) + ")");
+    if (m == glm::mat4(1.0f)) return computeBounds(mesh);  // 1·p + 0 is p: checked above
+    const std::string placed = what + " as placed by its transform";
+    std::vector<glm::vec3> positions;
+    positions.reserve(mesh.positions.size());
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        positions.push_back(glm::vec3(m * glm::vec4(mesh.positions[i], 1.0f)));  // as transformMesh
+        if (!finite(positions.back()))
+            throw Error(placed + ": vertex " + std::to_string(i) +
+                        " has a non-finite (NaN or infinite) position");
+    }
+    return validateGeometry(mesh, positions, placed);
+}
+
+void validateExtent(const Bounds& b, const std::string& what) {
+    const glm::vec3 d = b.hi - b.lo;
+    const char* const axis[3] = {"x", "y", "z"};
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(d[k]))
+            throw Error(what + ": extent not finite in float arithmetic (" + axis[k] + " from " +
+                        number(b.lo[k]) + " to " + number(b.hi[k]) + ")");
+    if (!std::isfinite(glm::length(d)))
+        throw Error(what + ": extent not finite in float arithmetic (the length of the diagonal of " +
+                    "its bounds, from (" + number(b.lo.x) + ", " + number(b.lo.y) + ", " +
+                    number(b.lo.z) + ") to (" + number(b.hi.x) + ", " + number(b.hi.y) + ", " +
+                    number(b.hi.z) + "), overflows float)");
 }
 
 void completeMesh(Mesh& mesh) {

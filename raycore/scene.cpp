@@ -46,10 +46,11 @@ Mesh Scene::worldMesh(uint32_t object) const {
     return m;
 }
 
-std::vector<std::string> validateScene(const Scene& scene) {
+std::vector<std::string> validateScene(const Scene& scene, const std::string& label) {
     std::vector<std::string> warnings;
-    const std::string where = scene.sourceFile.empty() ? "scene '" + scene.name + "'"
-                                                       : scene.sourceFile.string();
+    const std::string where = !label.empty()              ? label
+                              : scene.sourceFile.empty() ? "scene '" + scene.name + "'"
+                                                         : scene.sourceFile.string();
     if (scene.objects.empty()) throw Error(where + ": the scene has no objects");
     for (size_t i = 0; i < scene.materials.size(); ++i) {
         const Material& m = scene.materials[i];
@@ -60,12 +61,18 @@ std::vector<std::string> validateScene(const Scene& scene) {
             throw Error(where + ": glass material '" + m.name + "' needs ior > 0");
     }
     std::vector<int> glassChecked(scene.meshes.size(), -1);
+    Bounds all;  // of every placed object, as Accel sizes its ray offsets by them
     for (const Object& o : scene.objects) {
         if (o.mesh >= scene.meshes.size())
             throw Error(where + ": object '" + o.name + "' refers to a mesh that does not exist");
         if (o.material >= scene.materials.size())
             throw Error(where + ": object '" + o.name + "' refers to a material that does not exist");
-        validateMesh(scene.meshes[o.mesh], where + ": object '" + o.name + "'");
+        // The mesh as given and as its transform places it: a scale of 0 or of 1e30 turns a
+        // good mesh into one of no area or of an extent past float's range.
+        const Bounds b = validatePlacedMesh(scene.meshes[o.mesh], o.transform,
+                                            where + ": object '" + o.name + "'");
+        all.lo = glm::min(all.lo, b.lo);
+        all.hi = glm::max(all.hi, b.hi);
         if (scene.materials[o.material].type == MaterialType::Glass) {
             int& c = glassChecked[o.mesh];
             if (c < 0) c = isClosedManifold(scene.meshes[o.mesh]) ? 1 : 0;
@@ -75,6 +82,7 @@ std::vector<std::string> validateScene(const Scene& scene) {
                                    "it has no well-defined inside (rendered anyway)");
         }
     }
+    validateExtent(all, where + ": the objects together");
     return warnings;
 }
 

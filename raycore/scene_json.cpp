@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <set>
@@ -30,6 +31,10 @@ struct Ctx {
     void warn(const std::string& w) const {
         if (warnings) warnings->push_back(what + ": " + w);
         else std::fprintf(stderr, "warning: %s: %s\n", what.c_str(), w.c_str());
+    }
+    void warnAsIs(const std::string& w) const {  // a warning already naming the file
+        if (warnings) warnings->push_back(w);
+        else std::fprintf(stderr, "warning: %s\n", w.c_str());
     }
     [[noreturn]] void fail(const std::string& e) const { throw Error(what + ": " + e); }
     std::filesystem::path resolve(const std::string& p) const {
@@ -109,42 +114,108 @@ double param(const std::map<std::string, double>& p, const char* k, double def) 
     return it == p.end() ? def : it->second;
 }
 
-Mesh meshFromSource(const Ctx& c, const MeshSource& s, const std::string& where) {
+// A count parameter (segments, stacks, level, part): a whole number from `lo` up, or the
+// default. Checked before the conversion, since int(1e300) is undefined and a negative
+// count sized a vector past memory.
+int countParam(const std::map<std::string, double>& p, const char* k, int def, int lo) {
+    const double v = param(p, k, def);
+    if (!(v >= lo && v <= double(1 << 20) && v == std::floor(v)))
+        throw Error(std::string(k) + " must be a whole number from " + std::to_string(lo) +
+                    " to " + std::to_string(1 << 20));
+    return int(v);
+}
+
+// Shapes a scene may ask for, at most: 2^24 triangles (a sphere of 4096 × 2048, the teapot
+// at level 512), so that a typing slip is an error rather than an allocation of terabytes.
+constexpr double kMaxShapeTriangles = double(1 << 24);
+
+void limitTriangles(double triangles) {
+    if (triangles > kMaxShapeTriangles)
+        throw Error("the parameters ask for " + std::to_string(int64_t(triangles)) +
+                    " triangles, more than " + std::to_string(int64_t(kMaxShapeTriangles)));
+}
+
+// A built-in shape from its parameters. Bad ones raise rg::Error saying which parameter;
+// meshFromSource adds the file and the object.
+Mesh makeShape(const MeshSource& s) {
     const auto& p = s.params;
-    Mesh m;
-    if (s.kind == "file") {
-        m = loadMesh(c.resolve(s.path));
-    } else if (s.kind == "sphere") {
-        m = makeSphere(float(param(p, "radius", 1)), int(param(p, "slices", 64)), int(param(p, "stacks", 32)));
-    } else if (s.kind == "cube") {
-        m = makeCube(float(param(p, "half_size", 1)));
-    } else if (s.kind == "torus") {
-        m = makeTorus(float(param(p, "major_radius", 1)), float(param(p, "minor_radius", 0.35)),
-                      int(param(p, "major_segments", 64)), int(param(p, "minor_segments", 32)));
-    } else if (s.kind == "cylinder") {
-        m = makeCylinder(float(param(p, "radius", 1)), float(param(p, "height", 1)),
-                         int(param(p, "segments", 48)));
-    } else if (s.kind == "room") {
+    if (s.kind == "sphere") {
+        const int slices = countParam(p, "slices", 64, 3), stacks = countParam(p, "stacks", 32, 2);
+        limitTriangles(2.0 * slices * stacks);
+        return makeSphere(float(param(p, "radius", 1)), slices, stacks);
+    }
+    if (s.kind == "cube") return makeCube(float(param(p, "half_size", 1)));
+    if (s.kind == "torus") {
+        const int major = countParam(p, "major_segments", 64, 3);
+        const int minor = countParam(p, "minor_segments", 32, 3);
+        limitTriangles(2.0 * major * minor);
+        return makeTorus(float(param(p, "major_radius", 1)), float(param(p, "minor_radius", 0.35)),
+                         major, minor);
+    }
+    if (s.kind == "cylinder") {
+        const int segments = countParam(p, "segments", 48, 3);
+        limitTriangles(4.0 * segments);
+        return makeCylinder(float(param(p, "radius", 1)), float(param(p, "height", 1)), segments);
+    }
+    if (s.kind == "room") {
         glm::vec3 lo(param(p, "lo_x", -5), param(p, "lo_y", 0), param(p, "lo_z", -5));
         glm::vec3 hi(param(p, "hi_x", 5), param(p, "hi_y", 5), param(p, "hi_z", 5));
-        m = makeRoom(lo, hi, float(param(p, "uv_scale", 1)));
+        Mesh m = makeRoom(lo, hi, float(param(p, "uv_scale", 1)));
         if (p.count("part")) {
-            int pi = int(p.at("part"));
-            if (pi < 0 || pi >= int(m.parts.size())) c.fail(where + ": room part out of range");
-            Mesh sub = extractPart(m, uint32_t(pi));
-            m = std::move(sub);
+            const int pi = countParam(p, "part", 0, 0);
+            if (pi >= int(m.parts.size())) throw Error("room part out of range");
+            m = extractPart(m, uint32_t(pi));
         }
-    } else if (s.kind == "teapot") {
-        m = tessellateTeapot(loadTeapotPatches(dataDir() / "teapot.txt"), int(param(p, "level", 25)));
-    } else if (s.kind == "cup") {
+        return m;
+    }
+    if (s.kind == "teapot") {
+        const int level = countParam(p, "level", 25, 1);
+        limitTriangles(2.0 * 32 * level * level);  // Newell's 32 patches, level² quads each
+        return tessellateTeapot(loadTeapotPatches(dataDir() / "teapot.txt"), level);
+    }
+    if (s.kind == "cup") {
         Scene tmp;
         tmp.materials.push_back({});
         addCup(tmp, 0, glm::mat4(1.0f));
-        m = tmp.meshes[0];
-    } else if (s.kind == "chessboard") {
-        m = makeChessboard(float(param(p, "square_size", 1)));
-    } else if (s.kind == "chess_piece") {
-        m = makeChessPiece(s.path);
+        return tmp.meshes[0];
+    }
+    if (s.kind == "chessboard") return makeChessboard(float(param(p, "square_size", 1)));
+    return makeChessPiece(s.path);  // chess_piece
+}
+
+// " (radius 0, slices 8)": a shape's parameters as the scene gives them, for messages.
+std::string paramsText(const MeshSource& s) {
+    std::string out;
+    if (!s.path.empty()) out = "piece " + s.path;
+    for (const auto& [k, v] : s.params) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%g", v);
+        out += (out.empty() ? "" : ", ") + k + " " + buf;
+    }
+    return out.empty() ? out : " (" + out + ")";
+}
+
+// The mesh an object names: a file (loadMesh has validated it) or a built-in shape, which
+// is validated here with its parameters in the message (a cube of half_size 0 has no
+// triangle of non-zero area). Every error names the scene file and the object.
+Mesh meshFromSource(const Ctx& c, const MeshSource& s, const std::string& where) {
+    static const std::set<std::string> shapes = {"sphere", "cube",  "torus",      "cylinder",   "room",
+                                                 "teapot", "cup",   "chessboard", "chess_piece"};
+    Mesh m;
+    if (s.kind == "file") {
+        try {
+            m = loadMesh(c.resolve(s.path));
+        } catch (const Error& e) {
+            c.fail(where + ": " + e.what());
+        }
+    } else if (shapes.count(s.kind)) {
+        const std::string shape = where + ": shape '" + s.kind + "'" + paramsText(s);
+        try {
+            m = makeShape(s);
+        } catch (const Error& e) {
+            c.fail(shape + ": " + e.what());
+        }
+        validateMesh(m, c.what + ": " + shape);
     } else {
         c.fail(where + ": unknown shape '" + s.kind +
                "' (sphere, cube, torus, cylinder, room, teapot, cup, chessboard, chess_piece)");
@@ -345,7 +416,9 @@ Scene parseSceneJson(const std::string& text, const std::filesystem::path& baseD
         c.warn("no cameras; adding one looking at the origin from +z");
         scene.cameras.push_back({"default", {0, 2, 10}, {0, 0, 0}, {0, 1, 0}, 40.0f});
     }
-    for (const std::string& w : validateScene(scene)) c.warn(w);
+    // The meshes again as each object's transform places them, and the scene's extent;
+    // the messages name this file (scene.sourceFile is set by loadSceneJson, afterwards).
+    for (const std::string& w : validateScene(scene, c.what)) c.warnAsIs(w);
     return scene;
 }
 

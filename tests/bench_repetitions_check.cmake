@@ -4,7 +4,13 @@
 # ours ÷ peer of those medians, and that --plot draws a bar per ratio. The speed itself is
 # not checked (a short --min-time).
 #   cmake -DRETROGLASS=<exe> -DOUT=<json> -P bench_repetitions_check.cmake
+# The files go to <json>.<random>.json and <json>.<random>.json.svg, of this run alone (two
+# ctest runs in one build folder), removed when the checks pass and kept when one fails.
 set(reps 3)
+string(RANDOM LENGTH 10 ALPHABET 0123456789abcdef run)
+get_filename_component(out_dir "${OUT}" DIRECTORY)
+get_filename_component(out_stem "${OUT}" NAME_WE)
+set(OUT "${out_dir}/${out_stem}.${run}.json")
 execute_process(
     COMMAND ${RETROGLASS} --threads 2 bench --filter "^fill_flat/" --repetitions ${reps}
             --min-time 0.01 --json ${OUT} --plot ${OUT}.svg
@@ -90,4 +96,5 @@ foreach(r RANGE ${lastratio})
     endif()
     string(SUBSTRING "${rest}" ${at} -1 rest)
 endforeach()
+file(REMOVE ${OUT} ${OUT}.svg)
 message(STATUS "ok: ${nratios} ratios of medians over ${reps} repetitions, and their plot")

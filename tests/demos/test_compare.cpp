@@ -2,8 +2,6 @@
 // and the errors for scenes nothing applies to.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -15,21 +13,15 @@
 #include "raycore/scene_json.h"
 #include "report.h"
 #include "reproduction.h"
+#include "scratch_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace rg::demos {
 namespace {
 
-fs::path testDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path d = fs::path(RETROGLASS_BUILD_DIR) / "test-out" /
-                 (std::string(info->test_suite_name()) + "." + info->name() + "." +
-                  std::to_string(::getpid()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+// A folder of this process and test alone (tests/scratch_dir.h: ctest -j runs tests at once).
+fs::path testDir() { return test::scratchDir("out"); }
 
 std::string readText(const fs::path& p) {
     std::ifstream f(p);

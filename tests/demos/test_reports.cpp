@@ -2,8 +2,6 @@
 // Report writes, the gallery read back by a real browser (headless Chromium), figures.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -16,22 +14,15 @@
 #include "raycore/image.h"
 #include "report.h"
 #include "reproduction.h"
+#include "scratch_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace rg::demos {
 namespace {
 
-// A folder of this process and test alone (tests run in parallel under ctest -j).
-fs::path testDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path d = fs::path(RETROGLASS_BUILD_DIR) / "test-out" /
-                 (std::string(info->test_suite_name()) + "." + info->name() + "." +
-                  std::to_string(::getpid()));
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+// A folder of this process and test alone (tests/scratch_dir.h: ctest -j runs tests at once).
+fs::path testDir() { return test::scratchDir("out"); }
 
 std::string readText(const fs::path& p) {
     std::ifstream f(p);
@@ -190,15 +181,17 @@ TEST(Gallery, EveryImageLoadsAndEveryLinkResolvesInABrowser) {
     EXPECT_EQ(v.result["images"].get<int>(), 3);  // thumbnail + two figures
     EXPECT_GE(v.result["links"].get<int>(), 6);
 
-    // A screenshot of the gallery for whoever reads the test output.
+    // A screenshot of the gallery for whoever reads the test output: in a folder of its own
+    // that stays after a pass (the rest, the browser profile included, goes).
+    const fs::path shotFile = test::scratchDir("screenshot", test::Keep::Always) / "gallery.png";
     const std::string shot = "timeout 120 chromium --headless --no-sandbox --disable-gpu "
                              "--user-data-dir='" + (root / "chromium-profile").string() +
-                             "' --window-size=1200,900 --screenshot='" +
-                             (root / "gallery.png").string() + "' 'file://" +
-                             fs::absolute(root / "index.html").string() + "' >/dev/null 2>&1";
+                             "' --window-size=1200,900 --screenshot='" + shotFile.string() +
+                             "' 'file://" + fs::absolute(root / "index.html").string() +
+                             "' >/dev/null 2>&1";
     EXPECT_EQ(std::system(shot.c_str()), 0);
-    EXPECT_GT(fs::file_size(root / "gallery.png"), 1000u);
-    std::printf("gallery screenshot: %s\n", (root / "gallery.png").string().c_str());
+    EXPECT_GT(fs::file_size(shotFile), 1000u);
+    std::printf("gallery screenshot: %s\n", shotFile.string().c_str());
 
     // The check can fail: a figure gone and another corrupt are both reported.
     fs::remove(o.outDir / "figure2.png");

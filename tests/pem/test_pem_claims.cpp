@@ -8,10 +8,9 @@
 #include <random>
 #include <set>
 
-#include <unistd.h>
-
 #include "pem_assets.h"
 #include "reproduce_pem.h"
+#include "scratch_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -39,9 +38,7 @@ PemSettings smallSettings() {
 // viewer frames): every one holds with the margin the report states (docs/reports.md).
 TEST(PemClaims, EveryReportedClaimHoldsAtQuickQuality) {
     demos::ReproduceOptions o;
-    o.outDir = fs::path(RETROGLASS_BUILD_DIR) / "test-out" /
-               ("pem-quick-" + std::to_string(::getpid()));
-    fs::remove_all(o.outDir);
+    o.outDir = test::scratchDir("pem-quick");  // of this test and process (tests/scratch_dir.h)
     PemSettings s = settingsFor(demos::Quality::Quick);
     s.viewerFrames = 2;
     nlohmann::json r = runPem(s, o);
@@ -58,7 +55,6 @@ TEST(PemClaims, EveryReportedClaimHoldsAtQuickQuality) {
                            "viewer_passes"})
         EXPECT_TRUE(ids.count(id)) << id;
     EXPECT_EQ(r["claims_held"].get<int>(), r["claims_total"].get<int>());
-    fs::remove_all(o.outDir);
 }
 
 // The claims test can fail: with the inference's smoothness weight wrong by ×10⁴ (the EMs
@@ -81,8 +77,7 @@ TEST(PemClaims, AWrongRegulariserBreaksAClaim) {
 
 TEST(PemClaims, HoldAtASmallSetting) {
     demos::ReproduceOptions o;
-    o.outDir = fs::path(RETROGLASS_BUILD_DIR) / "test-out" / "pem-small";
-    fs::remove_all(o.outDir);
+    o.outDir = test::scratchDir("pem-small");
     nlohmann::json r = runPem(smallSettings(), o);
     ASSERT_FALSE(r.empty());
     const auto& on = r["on_manifold"]["psnr_db"];
@@ -117,8 +112,7 @@ TEST(PemAssets, MapsRoundTripThroughExrBitForBit) {
     std::mt19937 rng(5);
     for (int64_t i = 0; i < m.layout.count(); ++i)
         m.texels.push_back({uint8_t(rng()), uint8_t(rng()), uint8_t(rng()), uint8_t(rng())});
-    fs::path p = fs::path(RETROGLASS_BUILD_DIR) / "test-out" / "pem-map.exr";
-    fs::create_directories(p.parent_path());
+    fs::path p = test::scratchDir("pem-map") / "pem-map.exr";
     saveMap(p, m);
     MapTexels back = loadMap(p, m.layout);
     EXPECT_EQ(back.texels, m.texels);

@@ -10,6 +10,7 @@
 #include "pem_assets.h"
 #include "pem_renderer.h"
 #include "raycore/builtin_scenes.h"
+#include "scratch_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -67,9 +68,7 @@ TEST(PemFrame, SameBytesOnBothPathsAndAnyThreadCount) {
 
 TEST(PemFrame, LoadedAssetsRenderTheSameFrame) {
     Small s;
-    fs::path dir = fs::path(RETROGLASS_BUILD_DIR) / "test-out" / "pem-frame-assets";
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    fs::path dir = test::scratchDir("pem-frame-assets");
     ViewSample loaded;
     for (size_t p = 0; p < s.sample.parts.size(); ++p) {
         PartMaps m;

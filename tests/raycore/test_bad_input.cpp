@@ -16,18 +16,7 @@
 namespace rg::ray {
 namespace {
 
-// Runs f, expects an rg::Error whose message contains every one of `parts`.
-template <class F>
-void expectError(F f, std::initializer_list<std::string> parts) {
-    try {
-        f();
-        ADD_FAILURE() << "no error raised";
-    } catch (const Error& e) {
-        for (const std::string& p : parts)
-            EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
-                << "message '" << e.what() << "' lacks '" << p << "'";
-    }
-}
+using test::expectError;
 
 TEST(BadInput, EmptyMeshFile) {
     auto dir = test::tempDir("empty_mesh");
@@ -122,7 +111,7 @@ TEST(BadInput, UnknownMaterialAndTextureAndShape) {
     }, {"d.json", "dodecahedron"});
     expectError([] {
         parseSceneJson(R"({"materials":[{"name":"a"}],"objects":[{"mesh":"gone.obj","material":"a"}]})",
-                       "/tmp", "m.json");
+                       "/nonexistent-retroglass-test", "m.json");
     }, {"gone.obj", "not found"});
 }
 

@@ -1,12 +1,17 @@
 // Helpers shared by the raycore tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 
+#include "core/error.h"
 #include "raycore/image.h"
+#include "scratch_dir.h"
 
 namespace rg::ray::test {
 
@@ -21,12 +26,21 @@ inline uint64_t hashImage(const Image& img) {
     return h;
 }
 
-// A fresh folder under the system temp dir for one test.
-inline std::filesystem::path tempDir(const std::string& name) {
-    auto d = std::filesystem::temp_directory_path() / ("retroglass_raycore_" + name);
-    std::filesystem::remove_all(d);
-    std::filesystem::create_directories(d);
-    return d;
+// A fresh folder of the running test and process alone (tests/scratch_dir.h): a fixed
+// folder under /tmp was shared by parallel tests and by checkouts, and deleted under them.
+inline std::filesystem::path tempDir(const std::string& name) { return rg::test::scratchDir(name); }
+
+// Runs f, expects an rg::Error whose message contains every one of `parts`.
+template <class F>
+void expectError(F f, std::initializer_list<std::string> parts) {
+    try {
+        f();
+        ADD_FAILURE() << "no error raised";
+    } catch (const Error& e) {
+        for (const std::string& p : parts)
+            EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
+                << "message '" << e.what() << "' lacks '" << p << "'";
+    }
 }
 
 inline void writeText(const std::filesystem::path& p, const std::string& text) {

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -46,9 +47,38 @@ struct Mesh {
     int findPart(const std::string& name) const;
 };
 
+// An empty box is lo = +∞, hi = −∞, the identities of min and max (±1e30 gave a mesh
+// lying wholly past x = −1e30 an hi.x of −1e30).
+struct Bounds {
+    glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+    glm::vec3 center() const { return (lo + hi) * 0.5f; }
+};
+
 // Bad input is refused with rg::Error naming `what` (a file or object name) and the
-// problem: empty mesh, index out of range, NaN/Inf position, count mismatches.
+// problem: empty mesh, index out of range, NaN/Inf position, count mismatches, and two
+// geometric ones (docs/scene-format.md, "What is rejected"):
+//
+//  - an extent that is not finite in float arithmetic: over all positions, hi − lo on an
+//    axis, or the length of the diagonal |hi − lo| = sqrt(dx² + dy² + dz²), is infinite
+//    (Accel sizes its ray offsets by that length);
+//  - a part (the whole mesh when it has no parts) without a triangle of non-zero area. A
+//    triangle (p0, p1, p2) has non-zero area when n = (p1 − p0) × (p2 − p0) and its length
+//    |n| = sqrt(n·n), every operation in float as Accel's face normal and completeMesh's
+//    vertex normals compute them, give 0 < |n| < ∞; where |n| is 0 or ∞ the normal cannot
+//    be normalised. Degenerate triangles among good ones are kept, as before: meshes carry
+//    a few (the teapot's patches meet in points at the top of the lid and the middle of
+//    the bottom: 152 of its 40,000 triangles), and dropping them would renumber the
+//    triangles that parts and hits refer to.
 void validateMesh(const Mesh& mesh, const std::string& what);
+
+// validateMesh, then its two geometric rules again on the mesh as `transform` places it
+// (positions m · (p, 1), as transformMesh and Accel compute them): a scene object scaled to
+// nothing or past float's range. The transform's entries must be finite. Returns the
+// placed mesh's bounds.
+Bounds validatePlacedMesh(const Mesh& mesh, const glm::mat4& transform, const std::string& what);
+
+// The extent rule above on bounds (the union of a scene's objects): rg::Error naming `what`.
+void validateExtent(const Bounds& bounds, const std::string& what);
 
 // Fills missing uvs with zeros and missing normals with area-weighted vertex normals.
 void completeMesh(Mesh& mesh);
@@ -66,10 +96,7 @@ Mesh extractPart(const Mesh& mesh, uint32_t partIndex);
 // after it).
 void appendMesh(Mesh& mesh, const Mesh& other, const std::string& partName = {});
 
-struct Bounds {
-    glm::vec3 lo{1e30f}, hi{-1e30f};
-    glm::vec3 center() const { return (lo + hi) * 0.5f; }
-};
+// Over all positions, unused ones included.
 Bounds computeBounds(const Mesh& mesh);
 
 // Σ area·centroid / Σ area over the triangles (of one part when part ≥ 0): 001 §4's

@@ -103,8 +103,12 @@ struct Scene {
 };
 
 // Checks references and meshes. Problems that make rendering impossible (a material or
-// mesh index out of range, NaN positions, an empty mesh) raise rg::Error naming the object;
-// doubtful ones (glass on a mesh that is not closed) are returned as warnings.
-std::vector<std::string> validateScene(const Scene& scene);
+// mesh index out of range, NaN positions, an empty mesh, a mesh or object without a
+// triangle of non-zero area or with an extent not finite in float arithmetic, as given or
+// as its transform places it: validatePlacedMesh in mesh.h; the objects together spanning
+// such an extent) raise rg::Error naming the scene and the object; doubtful ones (glass on a
+// mesh that is not closed) are returned as warnings. Messages start with `label`, or else
+// the scene's sourceFile, or else "scene 'name'".
+std::vector<std::string> validateScene(const Scene& scene, const std::string& label = {});
 
 }  // namespace rg::ray
