@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "raycore/builtin_scenes.h"
+#include "raycore/cgal_meshes.h"
 #include "raycore/mesh_io.h"
 #include "raycore/shapes.h"
 #include "raycore/teapot.h"
@@ -204,7 +205,13 @@ Mesh meshFromSource(const Ctx& c, const MeshSource& s, const std::string& where)
     Mesh m;
     if (s.kind == "file") {
         try {
-            m = loadMesh(c.resolve(s.path));
+            // "cgal:NAME": a mesh of Debian's libcgal-demo (cgal_meshes.h), closed if it has holes.
+            if (s.path.rfind("cgal:", 0) == 0) {
+                m = loadCgalMesh(s.path.substr(5));
+                fillHoles(m);
+            } else {
+                m = loadMesh(c.resolve(s.path));
+            }
         } catch (const Error& e) {
             c.fail(where + ": " + e.what());
         }

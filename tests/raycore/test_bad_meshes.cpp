@@ -14,6 +14,8 @@
 #include "core/error.h"
 #include "raycore/accel.h"
 #include "raycore/builtin_scenes.h"
+#include "raycore/cgal_meshes.h"
+#include "raycore/shapes.h"
 #include "raycore/mesh_io.h"
 #include "raycore/scene_json.h"
 #include "raycore/shapes.h"
@@ -343,6 +345,51 @@ TEST(BadMeshes, FuzzSeedsRaiseTheirErrors) {
         SCOPED_TRACE(seed);
         expectError([&] { loadSceneJson(corpus / "scene_json" / seed); }, {seed, problem});
     }
+}
+
+}  // namespace
+}  // namespace rg::ray
+
+namespace rg::ray {
+namespace {
+
+// cgal:NAME from the installed libcgal-demo archive, through a scene file too; an unknown
+// name is an error naming the archive member.
+TEST(CgalMeshes, LoadByNameAndRefuseUnknownNames) {
+    Mesh dragon = loadCgalMesh("ChineseDragon-10kv");
+    EXPECT_EQ(dragon.positions.size(), 10000u);
+    EXPECT_FALSE(isClosedManifold(dragon));  // 6 boundary edges, as the spec notes say
+    const int added = fillHoles(dragon);
+    EXPECT_GT(added, 0);
+    EXPECT_TRUE(isClosedManifold(dragon));
+    try {
+        loadCgalMesh("no-such-mesh");
+        FAIL() << "unknown mesh";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("data/meshes/no-such-mesh.off"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(loadCgalMesh("../etc/passwd"), Error);
+}
+
+// fillHoles on a closed cube with one face removed: the square hole is fanned back closed.
+TEST(CgalMeshes, FillHolesClosesAMissingFace) {
+    Mesh cube = makeCube(1.0f);
+    // Weld the flat-shaded cube's 24 vertices by position so that edges are shared.
+    Mesh welded;
+    std::vector<uint32_t> remap(cube.positions.size());
+    for (size_t i = 0; i < cube.positions.size(); ++i) {
+        size_t j = 0;
+        while (j < welded.positions.size() && welded.positions[j] != cube.positions[i]) ++j;
+        if (j == welded.positions.size()) welded.positions.push_back(cube.positions[i]);
+        remap[i] = uint32_t(j);
+    }
+    for (size_t t = 0; t + 1 < cube.triangleCount(); ++t)  // the last triangle dropped: a hole
+        for (int k = 0; k < 3; ++k) welded.indices.push_back(remap[cube.indices[3 * t + size_t(k)]]);
+    welded.indices.erase(welded.indices.end() - 3, welded.indices.end());  // and its twin
+    completeMesh(welded);
+    EXPECT_FALSE(isClosedManifold(welded));
+    EXPECT_EQ(fillHoles(welded), 2);  // a quad hole: two triangles
+    EXPECT_TRUE(isClosedManifold(welded));
 }
 
 }  // namespace
