@@ -399,6 +399,9 @@ struct ProgrammableDevice::Impl {
         x1 = std::clamp<int64_t>(x1, 0, width);
         y0 = std::clamp<int64_t>(y0, 0, height);
         y1 = std::clamp<int64_t>(y1, 0, height);
+        // A scissor of negative extent leaves x1 < x0: nothing to clear (std::fill of a
+        // reversed range would run off the level; the trace fuzz tests found it).
+        if (x1 <= x0) return;
         for (int64_t y = y0; y < y1; ++y)
             std::fill(data + y * width + x0, data + y * width + x1, value);
     }
