@@ -55,6 +55,12 @@ std::string detail::programTypeNames(const std::type_info& vp, const std::type_i
     return demangle(vp) + ", " + demangle(fp) + ", " + demangle(v);
 }
 
+std::string detail::programKeyName(std::type_index key) {
+    int status = 0;
+    std::unique_ptr<char, void (*)(void*)> s(abi::__cxa_demangle(key.name(), nullptr, nullptr, &status), std::free);
+    return status == 0 && s ? std::string(s.get()) : std::string(key.name());
+}
+
 const RegisteredProgram& detail::addProgram(RegisteredProgram p) {
     checkName(p.name);
     Registry& r = registry();

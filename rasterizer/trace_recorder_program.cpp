@@ -266,8 +266,7 @@ void TraceRecorder::programDraw(const ProgrammableDevice& dev, std::type_index p
                                 uint32_t stride, std::span<const uint32_t> indices) {
     const RegisteredProgram* p = findProgram(program);
     if (!p)
-        throw Error("trace capture: the draw's program is not registered (" +
-                    std::string(program.name()) +
+        throw Error("trace capture: the draw's program is not registered (" + detail::programKeyName(program) +
                     "); register it with rg::raster::registerProgram<VP, FP, V>(\"name\") "
                     "(rasterizer/include/rasterizer/program_registry.h) before recording");
     impl_->syncProgram(dev, true, units);

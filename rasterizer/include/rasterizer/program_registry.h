@@ -117,7 +117,8 @@ constexpr uint32_t kRecordedBytes = std::is_empty_v<T> ? 0u : uint32_t(sizeof(T)
 template <class T>
 T fromRecordedBytes(std::span<const uint8_t> bytes) {
     std::array<std::byte, sizeof(T)> raw{};
-    std::memcpy(raw.data(), bytes.data(), std::min(bytes.size(), sizeof(T)));
+    // An empty type's bytes are an empty span, whose data() may be null: no memcpy then.
+    if (!bytes.empty()) std::memcpy(raw.data(), bytes.data(), std::min(bytes.size(), sizeof(T)));
     return std::bit_cast<T>(raw);
 }
 
@@ -151,6 +152,8 @@ void drawRecorded(ProgrammableDevice& device, std::span<const uint8_t> vertexPro
 
 // "VP, FP, V" demangled where the compiler allows.
 std::string programTypeNames(const std::type_info& vp, const std::type_info& fp, const std::type_info& v);
+// A program triple's key as the compiler names it, demangled ("...ProgramTriple<VP, FP, V>").
+std::string programKeyName(std::type_index key);
 
 const RegisteredProgram& addProgram(RegisteredProgram program);
 
