@@ -12,8 +12,10 @@
 //             context is made once per child, before timing — GL has no cheaper way to
 //             get a fresh device — so ours pays for a Device per replay and Mesa does not.
 // Traces using what GL 1.3 lacks (colour tables, pixel texture, 4D textures, the
-// Direct3D-only stage ops, ...) are timed on ours only and listed as such with the reason
-// conformance::mesaUnsupported() gives.
+// Direct3D-only stage ops, ...) and programmable traces with a program that has no GLSL
+// twin are timed on ours only and listed as such with the reason
+// conformance::oursOnlyReason() gives. A programmable trace's twins are compiled on the
+// first replay in the child and kept (ours compiles its programs when retroglass is built).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -74,7 +76,7 @@ void registerTraceBenchmarks(const std::string& file, bool referencePath) {
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
     }
-    if (!unsupported.empty()) noteOursOnly(workload, "Mesa lacks " + unsupported);
+    if (!unsupported.empty()) noteOursOnly(workload, conformance::oursOnlyReason(*trace));
 }
 
 }  // namespace rg::bench

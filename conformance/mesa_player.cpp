@@ -18,6 +18,7 @@
 //                              tests off (our pixel transfer writes the framebuffer)
 #include "conformance/mesa_player.h"
 #include "core/fd_io.h"
+#include "mesa_program_player.h"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -520,6 +521,10 @@ struct GlPlayer {
 }  // namespace
 
 void playOnCurrentContext(const Trace& trace) {
+    if (trace.programmable) {
+        detail::playProgramTrace(trace, nullptr);
+        return;
+    }
     // Row 0 of the buffer is the top row, as ours; the initial contents go straight into
     // OSMesa's colour buffer, as the replay on ours copies them into its framebuffer.
     OSMesaPixelStore(OSMESA_Y_UP, 0);
@@ -535,6 +540,7 @@ void playOnCurrentContext(const Trace& trace) {
 }
 
 std::string mesaUnsupported(const Trace& trace) {
+    if (trace.programmable) return detail::mesaProgramUnsupported(trace);
     for (const auto& [id, t] : trace.textures) {
         if (t.desc.target == tex::TextureTarget::Texture4D) return "4D textures (SGIS_texture4D)";
         if (tex::formatInfo(t.desc.format).isFloat) return "float and depth textures";
@@ -571,6 +577,14 @@ std::string mesaUnsupported(const Trace& trace) {
     return {};
 }
 
+std::string oursOnlyReason(const Trace& trace) {
+    const std::string missing = mesaUnsupported(trace);
+    if (missing.empty()) return {};
+    // A programmable trace's reasons are whole phrases (a program without a twin is not
+    // something Mesa lacks); the fixed-function ones name a GL feature.
+    return trace.programmable ? missing : "Mesa lacks " + missing;
+}
+
 MesaReplay replayOnMesa(const Trace& trace) {
     MesaReplay out;
     out.unsupported = mesaUnsupported(trace);
@@ -581,6 +595,8 @@ MesaReplay replayOnMesa(const Trace& trace) {
     if (pid < 0) throw Error("mesa replay: fork failed");
     const size_t n = size_t(trace.width) * size_t(trace.height) * 4;
     if (pid == 0) {
+        // The child answers [u32 0][u32 length][GL_RENDERER][the image] or [u32 1][u32
+        // length][the error]; it never returns into the caller's code.
         ::close(fds[0]);
         ::setenv("GALLIUM_DRIVER", "llvmpipe", 1);
         ::setenv("LP_NUM_THREADS", "1", 1);
@@ -588,33 +604,53 @@ MesaReplay replayOnMesa(const Trace& trace) {
                                trace.depth == DepthFormat::D16 ? 16 : 24, OSMESA_STENCIL_BITS, 0,
                                OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0};
         OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, nullptr);
-        std::vector<uint8_t> buffer(n);
-        int status = 1;
-        if (ctx && OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, trace.width, trace.height)) {
-            playOnCurrentContext(trace);
-            const GLubyte* r = glGetString(GL_RENDERER);
-            std::string renderer = r ? reinterpret_cast<const char*>(r) : "unknown";
-            uint32_t len = uint32_t(renderer.size());
-            io::writeAll(fds[1], &len, 4);
-            io::writeAll(fds[1], renderer.data(), len);
-            io::writeAll(fds[1], buffer.data(), n);
-            status = 0;
-            OSMesaDestroyContext(ctx);
+        // A programmable trace renders into framebuffer objects; the window is a token.
+        const int bw = std::max(1, trace.width), bh = std::max(1, trace.height);
+        std::vector<uint8_t> buffer(size_t(bw) * size_t(bh) * 4);
+        uint32_t status = 1;
+        std::string text = "cannot create an OSMesa context";
+        try {
+            if (ctx && OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, bw, bh)) {
+                if (trace.programmable) {
+                    std::vector<Rgba8> image;
+                    detail::playProgramTrace(trace, &image);
+                    if (image.size() * 4 == n) std::memcpy(buffer.data(), image.data(), n);
+                } else {
+                    playOnCurrentContext(trace);
+                }
+                const GLubyte* r = glGetString(GL_RENDERER);
+                text = r ? reinterpret_cast<const char*>(r) : "unknown";
+                status = 0;
+            }
+        } catch (const std::exception& e) {
+            text = e.what();
         }
-        ::_exit(status);
+        const uint32_t len = uint32_t(text.size());
+        bool ok = io::writeAll(fds[1], &status, 4) && io::writeAll(fds[1], &len, 4) &&
+                  io::writeAll(fds[1], text.data(), len);
+        if (ok && status == 0) io::writeAll(fds[1], buffer.data(), n);
+        if (ctx) OSMesaDestroyContext(ctx);
+        ::_exit(int(status));
     }
     ::close(fds[1]);
-    uint32_t len = 0;
-    bool ok = io::readAll(fds[0], &len, 4) && len < 4096;
+    uint32_t childStatus = 1, len = 0;
+    std::string text;
+    bool ok = io::readAll(fds[0], &childStatus, 4) && io::readAll(fds[0], &len, 4) && len < (1u << 16);
     if (ok) {
-        out.renderer.resize(len);
-        ok = io::readAll(fds[0], out.renderer.data(), len);
+        text.resize(len);
+        ok = io::readAll(fds[0], text.data(), len);
     }
-    out.framebuffer = Framebuffer(trace.width, trace.height, DepthFormat::None);
-    if (ok) ok = io::readAll(fds[0], out.framebuffer.color().data(), n);
+    if (ok && childStatus == 0) {
+        out.renderer = text;
+        if (trace.width > 0 && trace.height > 0) {
+            out.framebuffer = Framebuffer(trace.width, trace.height, DepthFormat::None);
+            ok = io::readAll(fds[0], out.framebuffer.color().data(), n);
+        }
+    }
     ::close(fds[0]);
     int status = 0;
     ::waitpid(pid, &status, 0);
+    if (ok && childStatus != 0) throw Error("mesa replay: " + text);
     if (!ok) throw Error("mesa replay: the OSMesa child failed (status " + std::to_string(status) + ")");
     return out;
 }

@@ -49,14 +49,16 @@ int TraceCommands::run(int threads, const std::string& path) const {
     if (conform_->parsed()) return runConform(goldenDir_.empty() ? std::string(RETROGLASS_SOURCE_DIR "/tests/golden") : goldenDir_);
     const raster::Trace trace = raster::readTraceFile(file_);
     raster::Framebuffer fb;
+    std::string hash;  // ours: ReplayResult::hash; Mesa: of its RGBA8 image
     if (backend_ == "mesa") {
         if (pass_ >= 0) throw Error("--pass is not supported with --backend mesa");
         MesaReplay m = replayOnMesa(trace);
         if (!m.unsupported.empty()) {
-            std::fprintf(stderr, "retroglass: Mesa cannot play this trace: %s\n", m.unsupported.c_str());
+            std::fprintf(stderr, "retroglass: ours only: %s\n", oursOnlyReason(trace).c_str());
             return 4;
         }
         fb = std::move(m.framebuffer);
+        hash = raster::framebufferHash(fb);
     } else {
         if (pass_ >= 0 && trace.passCount() == 0)
             throw Error("--pass " + std::to_string(pass_) + ": '" + file_ +
@@ -68,10 +70,16 @@ int TraceCommands::run(int threads, const std::string& path) const {
         raster::ReplayResult r = raster::replayTrace(trace, o);
         if (r.readBacks)
             std::printf("read-backs: %d, %d differing from the capture\n", r.readBacks, r.readBackMismatches);
+        if (r.targetChecks)
+            std::printf("render targets: %d, %d differing from the capture\n", r.targetChecks, r.targetMismatches);
         fb = std::move(r.framebuffer);
+        hash = r.hash;
     }
-    if (!out_.empty()) writePng(out_, fb);
-    std::printf("%s  %s (%s, %dx%d%s)\n", raster::framebufferHash(fb).c_str(), file_.c_str(),
+    if (!out_.empty()) {
+        if (fb.width() == 0) throw Error("--out: '" + file_ + "' binds no colour target, so it has no image");
+        writePng(out_, fb);
+    }
+    std::printf("%s  %s (%s, %dx%d%s)\n", hash.c_str(), file_.c_str(),
                 trace.profile.c_str(), fb.width(), fb.height(),
                 pass_ >= 0 ? (", after pass " + std::to_string(pass_)).c_str() : "");
     return 0;

@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "pipeline.h"
 #include "rasterizer/fragment_ops.h"
+#include "rasterizer/trace.h"
 #include "raster_tiles.h"
 #include "tsan_annotations.h"
 #include "texunit/format.h"
@@ -399,6 +400,9 @@ struct ProgrammableDevice::Impl {
         x1 = std::clamp<int64_t>(x1, 0, width);
         y0 = std::clamp<int64_t>(y0, 0, height);
         y1 = std::clamp<int64_t>(y1, 0, height);
+        // A scissor of negative extent leaves x1 < x0: nothing to clear (std::fill of a
+        // reversed range would run off the level; the trace fuzz tests found it).
+        if (x1 <= x0) return;
         for (int64_t y = y0; y < y1; ++y)
             std::fill(data + y * width + x0, data + y * width + x1, value);
     }
@@ -412,7 +416,17 @@ ProgrammableDevice::ProgrammableDevice(const Profile& profile, DeviceOptions opt
     profile.require(Feature::FragmentProgram, "programmable device");
     impl_ = std::make_unique<Impl>(profile, options);
 }
-ProgrammableDevice::~ProgrammableDevice() = default;
+ProgrammableDevice::~ProgrammableDevice() {
+    // The recorder's trace gets the final target hashes while the targets still exist; a
+    // destructor must not throw, and a recorder that cannot write them any more (already
+    // finished) has nothing to add.
+    if (recorder_) {
+        try {
+            recorder_->detach(*this);
+        } catch (const Error&) {
+        }
+    }
+}
 
 const Profile& ProgrammableDevice::profile() const { return impl_->profile; }
 void ProgrammableDevice::setPath(Path path) { impl_->options.path = path; }
@@ -501,7 +515,40 @@ void ProgrammableDevice::setTexture(int unit, std::shared_ptr<const tex::Texture
     impl_->textures[size_t(unit)] = std::move(texture);
 }
 
-void ProgrammableDevice::beginFrame() { impl_->counters = ProgramCounters{}; }
+std::span<const ColorTarget> ProgrammableDevice::colorTargets() const { return impl_->colors; }
+const DepthTarget& ProgrammableDevice::depthTarget() const { return impl_->depth; }
+const Viewport& ProgrammableDevice::viewport() const { return impl_->viewport; }
+const Rect* ProgrammableDevice::scissor() const { return impl_->scissorOn ? &impl_->scissor : nullptr; }
+
+const std::shared_ptr<const tex::Texture>& ProgrammableDevice::texture(int unit) const {
+    if (unit < 0 || unit >= kMaxProgramUnits) throw InvalidState("texture unit " + std::to_string(unit) + " out of range");
+    return impl_->textures[size_t(unit)];
+}
+
+const tex::SamplerState& ProgrammableDevice::sampler(int unit) const {
+    if (unit < 0 || unit >= kMaxProgramUnits) throw InvalidState("texture unit " + std::to_string(unit) + " out of range");
+    return impl_->units[size_t(unit)].sampler;
+}
+
+void ProgrammableDevice::setRecorder(std::shared_ptr<TraceRecorder> recorder) {
+    if (recorder == recorder_) return;
+    if (recorder) recorder->attach(*this);  // first, so that a refused recorder changes nothing
+    if (recorder_) recorder_->detach(*this);
+    recorder_ = std::move(recorder);
+}
+
+void ProgrammableDevice::recordDraw(std::type_index program, std::span<const uint8_t> vertexProgram,
+                                    std::span<const uint8_t> fragmentProgram, uint32_t units,
+                                    ProgramPrimitive primitive, std::span<const uint8_t> vertices,
+                                    uint32_t stride, std::span<const uint32_t> indices) {
+    recorder_->programDraw(*this, program, vertexProgram, fragmentProgram, units, primitive, vertices, stride,
+                           indices);
+}
+
+void ProgrammableDevice::beginFrame() {
+    impl_->counters = ProgramCounters{};
+    if (recorder_) recorder_->beginFrame();
+}
 const ProgramCounters& ProgrammableDevice::counters() const { return impl_->counters; }
 
 
@@ -509,6 +556,7 @@ void ProgrammableDevice::clearColor(int target, const glm::vec4& value) {
     Impl& m = *impl_;
     if (target < 0 || size_t(target) >= m.colors.size())
         throw InvalidState("clear of render target " + std::to_string(target) + ", which is not attached");
+    if (recorder_) recorder_->clearColor(*this, target, value);
     const ColorTarget& ct = m.colors[size_t(target)];
     tex::Texture& t = *ct.texture;
     if (!t.isFloat())
@@ -522,6 +570,7 @@ void ProgrammableDevice::clearColor(int target, const glm::vec4& value) {
 void ProgrammableDevice::clearDepth(float value) {
     Impl& m = *impl_;
     if (!m.depth.texture) throw InvalidState("depth clear without a depth target");
+    if (recorder_) recorder_->clearDepth(*this, value);
     const bool d24 = m.depth.texture->desc().format == tex::TexelFormat::Depth24;
     m.fillClearRect(m.depth.texture->renderDataR(m.depth.level, m.depth.face),
                     detail::storedDepth(d24, double(value)));

@@ -62,5 +62,13 @@ struct ByteReader {
 // Bytes of one level of one face in the packed layout of `format`.
 uint64_t traceLevelBytes(const tex::TextureDesc& desc, int level);
 int traceFaces(const tex::TextureDesc& desc);
+// One level of one face packed in the format's layout, checked to expand back to the
+// texture's texels (rasterizer/trace_recorder.cpp).
+std::vector<uint8_t> tracePackLevel(const tex::Texture& t, int level, int face);
+// replayTrace() of a programmable (version 2) trace (rasterizer/trace_player_program.cpp).
+ReplayResult replayProgrammableTrace(const Trace& trace, const ReplayOptions& options,
+                                     const std::shared_ptr<TraceRecorder>& recorder);
+// The content hash of a texture (descriptor, every texel of every level and face); never 0.
+uint64_t traceContentHash(const tex::Texture& t);
 
 }  // namespace rg::raster::detail

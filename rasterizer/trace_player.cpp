@@ -5,10 +5,13 @@
 #include "core/profile.h"
 #include "rasterizer/device.h"
 #include "rasterizer/trace.h"
+#include "trace_io.h"
 
 namespace rg::raster {
 
-ReplayResult replayTrace(const Trace& trace, const ReplayOptions& options) {
+ReplayResult replayTrace(const Trace& trace, const ReplayOptions& options,
+                         std::shared_ptr<TraceRecorder> recorder) {
+    if (trace.programmable) return detail::replayProgrammableTrace(trace, options, recorder);
     const Profile& profile = profileByName(trace.profile);
     Device dev(profile, trace.width, trace.height, trace.depth, {options.path, options.threads});
     if (!trace.initialColor.empty())
@@ -37,6 +40,7 @@ ReplayResult replayTrace(const Trace& trace, const ReplayOptions& options) {
         return tx;
     };
 
+    if (recorder) dev.setRecorder(recorder);
     ReplayResult result;
     tex::TextureUnits& tu = dev.textureUnits();
     for (const TraceCommand& c : trace.commands) {
@@ -79,7 +83,9 @@ ReplayResult replayTrace(const Trace& trace, const ReplayOptions& options) {
             default: break;
         }
     }
+    if (recorder) dev.setRecorder(nullptr);
     result.framebuffer = dev.framebuffer();
+    result.hash = framebufferHash(result.framebuffer);
     return result;
 }
 

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "core/profile.h"
+#include "rasterizer/program_registry.h"
 #include "rasterizer/trace.h"
 #include "trace_io.h"
 
@@ -33,6 +35,196 @@ void readRect(ByteReader& r, Rect& rect) {
     rect.x = r.i32(); rect.y = r.i32(); rect.width = r.i32(); rect.height = r.i32();
 }
 
+void readSampler(ByteReader& r, tex::SamplerState& s) {
+    for (auto& a : s.address) a = enumValue(r.u8(), tex::AddressMode(5), "address mode");
+    s.magFilter = enumValue(r.u8(), tex::FilterMode(2), "mag filter");
+    s.minFilter = enumValue(r.u8(), tex::FilterMode(2), "min filter");
+    s.mipFilter = enumValue(r.u8(), tex::MipMode(3), "mip filter");
+    s.lodBias = r.f32(); s.minLod = r.f32(); s.maxLod = r.f32();
+    s.baseLevel = r.i32(); s.maxLevel = r.i32();
+    s.borderColor = r.rgba();
+}
+
+std::string hex(unsigned v) {
+    const char* digits = "0123456789abcdef";
+    return std::string("0x") + digits[(v >> 4) & 15] + digits[v & 15];
+}
+
+// The record kinds of each device (docs/trace-format.md, "Records"): a trace holds one
+// device's records only.
+bool fixedFunctionRecord(TraceOp op) {
+    switch (op) {
+        case TraceOp::Device: case TraceOp::Framebuffer: case TraceOp::State: case TraceOp::Transforms:
+        case TraceOp::Viewport: case TraceOp::Scissor: case TraceOp::Stage: case TraceOp::Sampler:
+        case TraceOp::TextureFactor: case TraceOp::TexGen: case TraceOp::ColorTable: case TraceOp::PixelTexture:
+        case TraceOp::Texture: case TraceOp::BindTexture: case TraceOp::BeginFrame: case TraceOp::BeginPass:
+        case TraceOp::EndFrame: case TraceOp::Clear: case TraceOp::Draw: case TraceOp::DrawPixels:
+        case TraceOp::CopyPixels: case TraceOp::ReadPixels: case TraceOp::End:
+            return true;
+        default: return false;
+    }
+}
+
+bool programmableRecord(TraceOp op) {
+    switch (op) {
+        case TraceOp::ProgrammableDevice: case TraceOp::Texture: case TraceOp::RenderTarget:
+        case TraceOp::RenderTargets: case TraceOp::ProgramState: case TraceOp::Viewport:
+        case TraceOp::ProgramScissor: case TraceOp::ProgramTexture: case TraceOp::BeginFrame:
+        case TraceOp::ClearTarget: case TraceOp::ClearDepth: case TraceOp::ProgramDraw: case TraceOp::TargetHash:
+        case TraceOp::End:
+            return true;
+        default: return false;
+    }
+}
+
+bool versionTwoRecord(TraceOp op) { return programmableRecord(op) && !fixedFunctionRecord(op); }
+
+// ---- version 2: the programmable device's records ----------------------------------------
+
+// Extent of a render target's level in x and y.
+std::array<int, 2> targetLevelSize(const tex::TextureDesc& d, int level) {
+    return {std::max(1, d.width >> level),
+            d.target == tex::TextureTarget::Texture1D ? 1 : std::max(1, d.height >> level)};
+}
+
+TraceRenderTarget readRenderTarget(ByteReader& r, const std::string& where) {
+    TraceRenderTarget t;
+    t.id = r.u64();
+    if (t.id == 0) throw TraceError(where + ": render target id 0 is reserved");
+    tex::TextureDesc& d = t.desc;
+    d.target = enumValue(r.u8(), tex::TextureTarget(5), "render target kind");
+    if (d.target != tex::TextureTarget::Texture1D && d.target != tex::TextureTarget::Texture2D &&
+        d.target != tex::TextureTarget::CubeMap)
+        throw TraceError(where + ": a render target is 1D, 2D or a cube map");
+    d.format = enumValue(r.u8(), tex::TexelFormat::Count, "texel format");
+    using tex::TexelFormat;
+    switch (d.format) {
+        case TexelFormat::RGBA8: case TexelFormat::R16F: case TexelFormat::RGBA16F: case TexelFormat::R32F:
+        case TexelFormat::RGBA32F: case TexelFormat::Depth24: case TexelFormat::Depth32F: break;
+        default:
+            throw TraceError(where + ": " + std::string(tex::formatInfo(d.format).name) +
+                             " is not a render-target format");
+    }
+    d.width = r.i32();
+    d.height = r.i32();
+    d.levels = r.i32();
+    if (d.width < 1 || d.width > kMaxTextureEdge || d.height < 1 || d.height > kMaxTextureEdge)
+        throw TraceError(where + ": render target extent out of range");
+    if (d.target == tex::TextureTarget::Texture1D && d.height != 1)
+        throw TraceError(where + ": a 1D render target has height 1");
+    if (d.target == tex::TextureTarget::CubeMap && d.width != d.height)
+        throw TraceError(where + ": cube map faces are square");
+    if (d.levels < 1 || d.levels > tex::fullChainLevels(d))
+        throw TraceError(where + ": render target level count out of range");
+    const uint8_t hasContents = r.u8();
+    if (hasContents > 1) throw TraceError(where + ": render target contents flag out of range");
+    if (hasContents) {
+        const uint64_t n = renderTargetValueBytes(d);
+        r.need(n);  // before allocating: a hostile extent cannot exhaust memory
+        t.contents.resize(n);
+        r.raw(t.contents.data(), n);
+    }
+    return t;
+}
+
+// A RenderTargets attachment: a defined render target's existing level and face.
+TraceTargetBinding readBinding(ByteReader& r, const Trace& trace, bool depth, const std::string& where) {
+    TraceTargetBinding b;
+    b.id = r.u64();
+    b.level = r.i32();
+    b.face = r.i32();
+    if (b.id == 0) {
+        if (!depth) throw TraceError(where + ": a colour target with id 0");
+        return b;
+    }
+    auto it = trace.renderTargets.find(b.id);
+    if (it == trace.renderTargets.end())
+        throw TraceError(where + ": binds a render target the trace has not defined");
+    const tex::TextureDesc& d = it->second.desc;
+    if (tex::formatInfo(d.format).isDepth != depth)
+        throw TraceError(where + (depth ? ": the depth target has a colour format" : ": a colour target has a depth format"));
+    const int faces = d.target == tex::TextureTarget::CubeMap ? 6 : 1;
+    if (b.level < 0 || b.level >= d.levels || b.face < 0 || b.face >= faces)
+        throw TraceError(where + ": render target level or face out of range");
+    return b;
+}
+
+void readRenderTargets(ByteReader& r, Trace& trace, TraceCommand& c, const std::string& where) {
+    const uint8_t n = r.u8();
+    if (n > kMaxColorTargets) throw TraceError(where + ": more than " + std::to_string(kMaxColorTargets) + " colour targets");
+    for (int i = 0; i < n; ++i) c.colorTargets.push_back(readBinding(r, trace, false, where));
+    c.depthTarget = readBinding(r, trace, true, where);
+    // All attachments one size, as the device requires.
+    std::vector<TraceTargetBinding> all = c.colorTargets;
+    if (c.depthTarget.id) all.push_back(c.depthTarget);
+    if (all.empty()) throw TraceError(where + ": no render target bound");
+    const auto size = targetLevelSize(trace.renderTargets.at(all[0].id).desc, all[0].level);
+    for (const TraceTargetBinding& b : all)
+        if (targetLevelSize(trace.renderTargets.at(b.id).desc, b.level) != size)
+            throw TraceError(where + ": render targets of different sizes");
+    if (!c.colorTargets.empty()) trace.image = c.colorTargets[0];
+}
+
+void readProgramState(ByteReader& r, ProgramState& s, const std::string& where) {
+    s.cull = enumValue(r.u8(), CullMode(3), "cull mode");
+    s.depthTest = r.u8();
+    s.depthWrite = r.u8();
+    s.depthFunc = enumValue(r.u8(), CompareFunc(8), "depth func");
+    s.pointSize = r.f32();
+    if (!(s.pointSize > 0.0f) || !(s.pointSize <= 8192.0f))
+        throw TraceError(where + ": point size outside (0, 8192]");
+    for (TargetBlend& b : s.blend) {
+        b.enable = r.u8();
+        b.src = enumValue(r.u8(), BlendFactor(13), "source blend factor");
+        b.dst = enumValue(r.u8(), BlendFactor(13), "destination blend factor");
+        b.op = enumValue(r.u8(), BlendOp(5), "blend op");
+        b.writeMask = r.u8();
+        if (b.writeMask > kWriteRGBA) throw TraceError(where + ": colour write mask out of range");
+    }
+}
+
+void readProgramDraw(ByteReader& r, TraceCommand& c, const std::string& where) {
+    TraceProgramDraw& d = c.programDraw;
+    const uint8_t n = r.u8();
+    std::string name(n, '\0');
+    r.raw(name.data(), n);
+    d.program = findProgram(name);
+    if (!d.program) {
+        std::string known;
+        for (const std::string& k : registeredProgramNames()) known += (known.empty() ? "" : ", ") + k;
+        throw TraceError(where + ": program '" + name + "' is not registered in this program (registered: " +
+                         (known.empty() ? "none" : known) +
+                         "); the module that defines it must call registerProgram<VP, FP, V>(\"" + name +
+                         "\") before the trace is read");
+    }
+    d.primitive = enumValue(r.u8(), ProgramPrimitive(4), "primitive");
+    auto object = [&](std::vector<uint8_t>& out, uint32_t expected, const char* what) {
+        const uint32_t size = r.u32();
+        if (size != expected)
+            throw TraceError(where + ": the " + what + " of program '" + name + "' is " + std::to_string(size) +
+                             " bytes in the trace, but " + std::to_string(expected) +
+                             " in this program (" + d.program->types + ")");
+        out.resize(size);
+        r.raw(out.data(), size);
+    };
+    object(d.vertexProgram, d.program->vertexProgramBytes, "vertex program");
+    object(d.fragmentProgram, d.program->fragmentProgramBytes, "fragment program");
+    const uint32_t stride = r.u32();
+    if (stride != d.program->vertexBytes)
+        throw TraceError(where + ": the vertices of program '" + name + "' are " + std::to_string(stride) +
+                         " bytes each in the trace, but " + std::to_string(d.program->vertexBytes) +
+                         " in this program (" + d.program->types + ")");
+    d.vertexCount = r.u32();
+    const uint32_t ni = r.u32();
+    r.need(uint64_t(d.vertexCount) * stride + uint64_t(ni) * 4);
+    d.vertices.resize(size_t(d.vertexCount) * stride);
+    r.raw(d.vertices.data(), d.vertices.size());
+    c.indices.resize(ni);
+    r.raw(c.indices.data(), size_t(ni) * 4);
+    for (uint32_t i : c.indices)
+        if (i >= d.vertexCount) throw TraceError(where + ": index " + std::to_string(i) + " past the vertices");
+}
+
 }  // namespace
 
 int Trace::passCount() const {
@@ -47,10 +239,10 @@ Trace readTrace(std::span<const uint8_t> bytes) {
     file.raw(magic, 8);
     if (std::memcmp(magic, kTraceMagic, 8) != 0) throw TraceError("not a retroglass trace (bad magic)");
     trace.version = file.u32();
-    if (trace.version != kTraceVersion)
-        throw TraceError("trace version " + std::to_string(trace.version) + " (this reader knows " +
+    if (trace.version != kTraceVersionFixedFunction && trace.version != kTraceVersionProgrammable)
+        throw TraceError("trace version " + std::to_string(trace.version) + " (this reader knows 1 and " +
                          std::to_string(kTraceVersion) + ")");
-    bool haveDevice = false, ended = false;
+    bool haveDevice = false, ended = false, hashes = false;
     size_t index = 0;
     while (!ended) {
         if (file.remaining() == 0) throw TraceError("trace is truncated (no End record)");
@@ -60,8 +252,19 @@ Trace readTrace(std::span<const uint8_t> bytes) {
         ByteReader r{bytes.subspan(file.pos, len), 0, "trace record"};
         file.pos += len;
         const std::string where = "record " + std::to_string(index++);
-        if (!haveDevice && op != uint8_t(TraceOp::Device))
-            throw TraceError(where + ": the first record must be Device");
+        // Which kinds may appear: those of the trace's version, and of its device.
+        const TraceOp kind = TraceOp(op);
+        if (!fixedFunctionRecord(kind) && !programmableRecord(kind))
+            throw TraceError(where + ": unknown record kind " + std::to_string(op));
+        if (trace.version == kTraceVersionFixedFunction && versionTwoRecord(kind))
+            throw TraceError(where + ": record kind " + hex(op) + " is a version 2 record in a version 1 trace");
+        if (!haveDevice && kind != TraceOp::Device && kind != TraceOp::ProgrammableDevice)
+            throw TraceError(where + ": the first record must be Device or ProgrammableDevice");
+        if (haveDevice && (trace.programmable ? !programmableRecord(kind) : !fixedFunctionRecord(kind)))
+            throw TraceError(where + ": record kind " + hex(op) + " belongs to the other device (this trace is of " +
+                             (trace.programmable ? "the ProgrammableDevice)" : "the fixed-function Device)"));
+        if (hashes && kind != TraceOp::TargetHash && kind != TraceOp::End)
+            throw TraceError(where + ": only TargetHash records may follow a TargetHash record");
         TraceCommand c;
         c.op = TraceOp(op);
         switch (TraceOp(op)) {
@@ -121,10 +324,70 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                     }
                 }
                 r.done();
-                if (!trace.textures.emplace(t.id, std::move(t)).second)
+                if (trace.renderTargets.count(t.id) || !trace.textures.emplace(t.id, std::move(t)).second)
                     throw TraceError(where + ": texture defined twice");
                 continue;
             }
+            // ---- version 2 ----
+            case TraceOp::ProgrammableDevice: {
+                if (haveDevice) throw TraceError(where + ": a second device record");
+                haveDevice = true;
+                trace.programmable = true;
+                const uint8_t n = r.u8();
+                trace.profile.resize(n);
+                r.raw(trace.profile.data(), n);
+                r.done();
+                const Profile* p = nullptr;
+                try {
+                    p = &profileByName(trace.profile);
+                } catch (const Error&) {
+                    throw TraceError(where + ": unknown profile '" + trace.profile + "'");
+                }
+                if (!p->has(Feature::VertexProgram) || !p->has(Feature::FragmentProgram))
+                    throw TraceError(where + ": profile '" + trace.profile + "' has no programmable pipeline");
+                continue;
+            }
+            case TraceOp::RenderTarget: {
+                TraceRenderTarget t = readRenderTarget(r, where);
+                r.done();
+                if (trace.textures.count(t.id) || trace.renderTargets.count(t.id))
+                    throw TraceError(where + ": render target defined twice");
+                trace.renderTargets.emplace(t.id, std::move(t));
+                continue;
+            }
+            case TraceOp::TargetHash: {
+                const uint64_t id = r.u64();
+                const uint64_t h = r.u64();
+                r.done();
+                if (!trace.renderTargets.count(id))
+                    throw TraceError(where + ": a hash of a render target the trace has not defined");
+                if (!trace.targetHashes.emplace(id, h).second)
+                    throw TraceError(where + ": a second hash of one render target");
+                hashes = true;
+                continue;
+            }
+            case TraceOp::RenderTargets: readRenderTargets(r, trace, c, where); break;
+            case TraceOp::ProgramState: readProgramState(r, c.programState, where); break;
+            case TraceOp::ProgramScissor: {
+                const uint8_t on = r.u8();
+                if (on > 1) throw TraceError(where + ": scissor flag out of range");
+                c.scissorOn = on != 0;
+                readRect(r, c.rect);
+                break;
+            }
+            case TraceOp::ProgramTexture:
+                c.unit = checkedIndex(r.u8(), kMaxProgramUnits, "texture unit");
+                c.textureId = r.u64();
+                if (c.textureId != 0 && !trace.textures.count(c.textureId) && !trace.renderTargets.count(c.textureId))
+                    throw TraceError(where + ": binds a texture the trace has not defined");
+                readSampler(r, c.sampler);
+                break;
+            case TraceOp::ClearTarget:
+                c.unit = checkedIndex(r.u8(), kMaxColorTargets, "colour target");
+                r.raw(&c.clearValue, sizeof c.clearValue);
+                break;
+            case TraceOp::ClearDepth: c.depthValue = r.f32(); break;
+            case TraceOp::ProgramDraw: readProgramDraw(r, c, where); break;
             case TraceOp::State: {
                 PipelineState& s = c.state;
                 s.cull = enumValue(r.u8(), CullMode(3), "cull mode");
@@ -165,18 +428,10 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                 s.colorScaleShift = r.u8(); s.alphaScaleShift = r.u8();
                 break;
             }
-            case TraceOp::Sampler: {
+            case TraceOp::Sampler:
                 c.unit = checkedIndex(r.u8(), tex::kMaxStages, "stage");
-                tex::SamplerState& s = c.sampler;
-                for (auto& a : s.address) a = enumValue(r.u8(), tex::AddressMode(5), "address mode");
-                s.magFilter = enumValue(r.u8(), tex::FilterMode(2), "mag filter");
-                s.minFilter = enumValue(r.u8(), tex::FilterMode(2), "min filter");
-                s.mipFilter = enumValue(r.u8(), tex::MipMode(3), "mip filter");
-                s.lodBias = r.f32(); s.minLod = r.f32(); s.maxLod = r.f32();
-                s.baseLevel = r.i32(); s.maxLevel = r.i32();
-                s.borderColor = r.rgba();
+                readSampler(r, c.sampler);
                 break;
-            }
             case TraceOp::TextureFactor: c.color = r.rgba(); break;
             case TraceOp::TexGen: {
                 c.unit = checkedIndex(r.u8(), tex::kMaxTexCoordSets, "coordinate set");
@@ -276,6 +531,11 @@ Trace readTrace(std::span<const uint8_t> bytes) {
         if (!ended) trace.commands.push_back(std::move(c));
     }
     if (file.remaining() != 0) throw TraceError("bytes after the End record");
+    if (trace.programmable && trace.image.id) {
+        const auto size = targetLevelSize(trace.renderTargets.at(trace.image.id).desc, trace.image.level);
+        trace.width = size[0];
+        trace.height = size[1];
+    }
     return trace;
 }
 

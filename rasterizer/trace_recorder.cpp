@@ -11,6 +11,7 @@
 #include "rasterizer/device.h"
 #include "rasterizer/trace.h"
 #include "trace_io.h"
+#include "trace_recorder_impl.h"
 
 namespace rg::raster {
 
@@ -99,9 +100,11 @@ void packTexelFloat(tex::TexelFormat f, const glm::vec4& v, uint8_t* p) {
     }
 }
 
+}  // namespace
+
 // Packs one level of one face; checks that it expands back to the stored texels, so a
 // replay uploads exactly what the capture sampled.
-std::vector<uint8_t> packLevel(const tex::Texture& t, int level, int face) {
+std::vector<uint8_t> detail::tracePackLevel(const tex::Texture& t, int level, int face) {
     const tex::TextureDesc& d = t.desc();
     const int bpt = t.format().bytesPerTexel;
     const auto& s = t.levelSize(level);
@@ -131,7 +134,7 @@ std::vector<uint8_t> packLevel(const tex::Texture& t, int level, int face) {
     return out;
 }
 
-uint64_t contentHash(const tex::Texture& t) {
+uint64_t detail::traceContentHash(const tex::Texture& t) {
     const tex::TextureDesc& d = t.desc();
     uint64_t h = traceHash64(&d.target, 1);
     h = traceHash64(&d.format, 1, h);
@@ -157,6 +160,8 @@ uint64_t contentHash(const tex::Texture& t) {
     return h == 0 ? 1 : h;  // 0 means "no texture" in BindTexture
 }
 
+namespace {
+
 bool sameBytes(const void* a, const void* b, size_t n) { return std::memcmp(a, b, n) == 0; }
 
 bool sameTexGen(const tex::TexGenState& a, const tex::TexGenState& b) {
@@ -172,190 +177,141 @@ bool sameTable(const tex::ColorTable* a, const tex::ColorTable* b) {
 
 }  // namespace
 
-struct TraceRecorder::Impl {
-    std::vector<uint8_t> bytes;
-    bool attached = false, finished = false;
-    // What the trace has said so far (the replaying device's state).
-    bool known = false;
-    PipelineState state;
-    std::array<glm::mat4, 3> transforms;
-    Viewport viewport;
-    Rect scissor;
-    std::array<tex::StageState, tex::kMaxStages> stages;
-    std::array<tex::SamplerState, tex::kMaxStages> samplers;
-    std::array<uint64_t, tex::kMaxStages> bound{};
-    std::array<std::shared_ptr<tex::ColorTable>, tex::kMaxStages> tables;
-    std::array<tex::TexGenState, tex::kMaxTexCoordSets> texGens;
-    Rgba8 tfactor;
-    tex::PixelTextureState pixelTexture;
-    std::vector<uint64_t> written;  // texture ids already in the trace (sorted)
+void TraceRecorder::Impl::writeTexture(const tex::Texture& t, uint64_t id) {
+    auto it = std::lower_bound(written.begin(), written.end(), id);
+    if (it != written.end() && *it == id) return;
+    written.insert(it, id);
+    size_t at = begin(TraceOp::Texture);
+    ByteWriter w{bytes};
+    const tex::TextureDesc& d = t.desc();
+    w.u64(id);
+    w.u8(uint8_t(d.target));
+    w.u8(uint8_t(d.format));
+    w.i32(d.width); w.i32(d.height); w.i32(d.depth); w.i32(d.size4); w.i32(d.levels);
+    for (int l = 0; l < d.levels; ++l)
+        for (int f = 0; f < t.faces(); ++f) {
+            std::vector<uint8_t> packed = detail::tracePackLevel(t, l, f);
+            w.raw(packed.data(), packed.size());
+        }
+    end(at);
+}
 
-    // Starts a record; returns the offset of its length field.
-    size_t begin(TraceOp op) {
-        if (!attached) throw Error("trace recorder: not attached to a device");
-        if (finished) throw Error("trace recorder: the trace is already finished");
-        bytes.push_back(uint8_t(op));
-        size_t at = bytes.size();
-        bytes.resize(at + 4);
-        return at;
-    }
-    void end(size_t at) {
-        const uint32_t len = uint32_t(bytes.size() - at - 4);
-        std::memcpy(bytes.data() + at, &len, 4);
-    }
-
-    void writeTexture(const tex::Texture& t, uint64_t id) {
-        auto it = std::lower_bound(written.begin(), written.end(), id);
-        if (it != written.end() && *it == id) return;
-        written.insert(it, id);
-        size_t at = begin(TraceOp::Texture);
-        ByteWriter w{bytes};
-        const tex::TextureDesc& d = t.desc();
-        w.u64(id);
-        w.u8(uint8_t(d.target));
-        w.u8(uint8_t(d.format));
-        w.i32(d.width); w.i32(d.height); w.i32(d.depth); w.i32(d.size4); w.i32(d.levels);
-        for (int l = 0; l < d.levels; ++l)
-            for (int f = 0; f < t.faces(); ++f) {
-                std::vector<uint8_t> packed = packLevel(t, l, f);
-                w.raw(packed.data(), packed.size());
-            }
+void TraceRecorder::Impl::sync(const Device& dev, uint32_t readStages) {
+    ByteWriter w{bytes};
+    const bool all = !known;
+    known = true;
+    if (all || !(dev.state() == state)) {
+        state = dev.state();
+        size_t at = begin(TraceOp::State);
+        const PipelineState& s = state;
+        for (uint8_t v : {uint8_t(s.cull), uint8_t(s.shade), s.depthTest, s.depthWrite,
+                          uint8_t(s.depthFunc), s.alphaTest, uint8_t(s.alphaFunc), s.alphaRef,
+                          s.blend, uint8_t(s.srcBlend), uint8_t(s.dstBlend), uint8_t(s.blendOp),
+                          s.colorWriteMask, s.scissorTest, s.specularEnable, s.perspectiveColor})
+            w.u8(v);
         end(at);
     }
+    const std::array<glm::mat4, 3> t{dev.world(), dev.view(), dev.projection()};
+    if (all || !sameBytes(&t, &transforms, sizeof t)) {
+        transforms = t;
+        size_t at = begin(TraceOp::Transforms);
+        w.raw(&t, sizeof t);  // 3 × 16 floats, column-major
+        end(at);
+    }
+    const Viewport& v = dev.viewport();
+    if (all || !sameBytes(&v, &viewport, sizeof v)) {
+        viewport = v;
+        size_t at = begin(TraceOp::Viewport);
+        w.i32(v.x); w.i32(v.y); w.i32(v.width); w.i32(v.height); w.f32(v.minZ); w.f32(v.maxZ);
+        end(at);
+    }
+    const Rect& r = dev.scissor();
+    if (all || !(r == scissor)) {
+        scissor = r;
+        size_t at = begin(TraceOp::Scissor);
+        w.i32(r.x); w.i32(r.y); w.i32(r.width); w.i32(r.height);
+        end(at);
+    }
+    const tex::TextureUnits& tu = dev.textureUnits();
+    for (int i = 0; i < tex::kMaxStages; ++i) {
+        const tex::StageState& st = tu.stage(i);
+        if (all || !(st == stages[size_t(i)])) {
+            stages[size_t(i)] = st;
+            size_t at = begin(TraceOp::Stage);
+            w.u8(uint8_t(i));
+            for (uint8_t b : {uint8_t(st.colorOp), st.colorArg1, st.colorArg2, st.colorArg0,
+                              uint8_t(st.alphaOp), st.alphaArg1, st.alphaArg2, st.alphaArg0,
+                              st.texCoordIndex, st.colorScaleShift, st.alphaScaleShift})
+                w.u8(b);
+            end(at);
+        }
+        const tex::SamplerState& sa = tu.sampler(i);
+        if (all || !sameBytes(&sa, &samplers[size_t(i)], sizeof sa)) {
+            samplers[size_t(i)] = sa;
+            size_t at = begin(TraceOp::Sampler);
+            w.u8(uint8_t(i));
+            for (auto a : sa.address) w.u8(uint8_t(a));
+            w.u8(uint8_t(sa.magFilter)); w.u8(uint8_t(sa.minFilter)); w.u8(uint8_t(sa.mipFilter));
+            w.f32(sa.lodBias); w.f32(sa.minLod); w.f32(sa.maxLod);
+            w.i32(sa.baseLevel); w.i32(sa.maxLevel);
+            w.rgba(sa.borderColor);
+            end(at);
+        }
+        const tex::ColorTable* table = tu.colorTable(i).get();
+        if (all || !sameTable(table, tables[size_t(i)].get())) {
+            tables[size_t(i)] = table ? std::make_shared<tex::ColorTable>(*table) : nullptr;
+            size_t at = begin(TraceOp::ColorTable);
+            w.u8(uint8_t(i));
+            w.u8(table ? 1 : 0);
+            if (table) {
+                w.u8(uint8_t(table->format));
+                w.u32(uint32_t(table->entries.size()));
+                for (Rgba8 e : table->entries) w.rgba(e);
+            }
+            end(at);
+        }
+        if (readStages >> i & 1u) {
+            const tex::Texture* tx = tu.texture(i).get();
+            const uint64_t id = tx ? detail::traceContentHash(*tx) : 0;
+            if (tx) writeTexture(*tx, id);
+            if (all || id != bound[size_t(i)]) {
+                bound[size_t(i)] = id;
+                size_t at = begin(TraceOp::BindTexture);
+                w.u8(uint8_t(i));
+                w.u64(id);
+                end(at);
+            }
+        }
+    }
+    if (all || !(tu.textureFactor() == tfactor)) {
+        tfactor = tu.textureFactor();
+        size_t at = begin(TraceOp::TextureFactor);
+        w.rgba(tfactor);
+        end(at);
+    }
+    for (int i = 0; i < tex::kMaxTexCoordSets; ++i) {
+        const tex::TexGenState& g = tu.texGen(i);
+        if (all || !sameTexGen(g, texGens[size_t(i)])) {
+            texGens[size_t(i)] = g;
+            size_t at = begin(TraceOp::TexGen);
+            w.u8(uint8_t(i));
+            w.u8(uint8_t(g.mode));
+            w.raw(&g.planes, sizeof g.planes);
+            w.u8(g.matrixEnabled ? 1 : 0);
+            w.raw(&g.matrix, sizeof g.matrix);
+            w.u8(g.projected ? 1 : 0);
+            end(at);
+        }
+    }
+    const tex::PixelTextureState& pt = tu.pixelTexture();
+    if (all || !(pt == pixelTexture)) {
+        pixelTexture = pt;
+        size_t at = begin(TraceOp::PixelTexture);
+        w.u8(pt.enabled ? 1 : 0); w.u8(uint8_t(pt.mode)); w.u8(pt.stage);
+        end(at);
+    }
+}
 
-    // Writes every piece of state a command reads that differs from the trace's.
-    // `readStages`: bit i set when stage i's texture can be read by the command.
-    void sync(const Device& dev, uint32_t readStages) {
-        ByteWriter w{bytes};
-        const bool all = !known;
-        known = true;
-        if (all || !(dev.state() == state)) {
-            state = dev.state();
-            size_t at = begin(TraceOp::State);
-            const PipelineState& s = state;
-            for (uint8_t v : {uint8_t(s.cull), uint8_t(s.shade), s.depthTest, s.depthWrite,
-                              uint8_t(s.depthFunc), s.alphaTest, uint8_t(s.alphaFunc), s.alphaRef,
-                              s.blend, uint8_t(s.srcBlend), uint8_t(s.dstBlend), uint8_t(s.blendOp),
-                              s.colorWriteMask, s.scissorTest, s.specularEnable, s.perspectiveColor})
-                w.u8(v);
-            end(at);
-        }
-        const std::array<glm::mat4, 3> t{dev.world(), dev.view(), dev.projection()};
-        if (all || !sameBytes(&t, &transforms, sizeof t)) {
-            transforms = t;
-            size_t at = begin(TraceOp::Transforms);
-            w.raw(&t, sizeof t);  // 3 × 16 floats, column-major
-            end(at);
-        }
-        const Viewport& v = dev.viewport();
-        if (all || !sameBytes(&v, &viewport, sizeof v)) {
-            viewport = v;
-            size_t at = begin(TraceOp::Viewport);
-            w.i32(v.x); w.i32(v.y); w.i32(v.width); w.i32(v.height); w.f32(v.minZ); w.f32(v.maxZ);
-            end(at);
-        }
-        const Rect& r = dev.scissor();
-        if (all || !(r == scissor)) {
-            scissor = r;
-            size_t at = begin(TraceOp::Scissor);
-            w.i32(r.x); w.i32(r.y); w.i32(r.width); w.i32(r.height);
-            end(at);
-        }
-        const tex::TextureUnits& tu = dev.textureUnits();
-        for (int i = 0; i < tex::kMaxStages; ++i) {
-            const tex::StageState& st = tu.stage(i);
-            if (all || !(st == stages[size_t(i)])) {
-                stages[size_t(i)] = st;
-                size_t at = begin(TraceOp::Stage);
-                w.u8(uint8_t(i));
-                for (uint8_t b : {uint8_t(st.colorOp), st.colorArg1, st.colorArg2, st.colorArg0,
-                                  uint8_t(st.alphaOp), st.alphaArg1, st.alphaArg2, st.alphaArg0,
-                                  st.texCoordIndex, st.colorScaleShift, st.alphaScaleShift})
-                    w.u8(b);
-                end(at);
-            }
-            const tex::SamplerState& sa = tu.sampler(i);
-            if (all || !sameBytes(&sa, &samplers[size_t(i)], sizeof sa)) {
-                samplers[size_t(i)] = sa;
-                size_t at = begin(TraceOp::Sampler);
-                w.u8(uint8_t(i));
-                for (auto a : sa.address) w.u8(uint8_t(a));
-                w.u8(uint8_t(sa.magFilter)); w.u8(uint8_t(sa.minFilter)); w.u8(uint8_t(sa.mipFilter));
-                w.f32(sa.lodBias); w.f32(sa.minLod); w.f32(sa.maxLod);
-                w.i32(sa.baseLevel); w.i32(sa.maxLevel);
-                w.rgba(sa.borderColor);
-                end(at);
-            }
-            const tex::ColorTable* table = tu.colorTable(i).get();
-            if (all || !sameTable(table, tables[size_t(i)].get())) {
-                tables[size_t(i)] = table ? std::make_shared<tex::ColorTable>(*table) : nullptr;
-                size_t at = begin(TraceOp::ColorTable);
-                w.u8(uint8_t(i));
-                w.u8(table ? 1 : 0);
-                if (table) {
-                    w.u8(uint8_t(table->format));
-                    w.u32(uint32_t(table->entries.size()));
-                    for (Rgba8 e : table->entries) w.rgba(e);
-                }
-                end(at);
-            }
-            if (readStages >> i & 1u) {
-                const tex::Texture* tx = tu.texture(i).get();
-                const uint64_t id = tx ? contentHash(*tx) : 0;
-                if (tx) writeTexture(*tx, id);
-                if (all || id != bound[size_t(i)]) {
-                    bound[size_t(i)] = id;
-                    size_t at = begin(TraceOp::BindTexture);
-                    w.u8(uint8_t(i));
-                    w.u64(id);
-                    end(at);
-                }
-            }
-        }
-        if (all || !(tu.textureFactor() == tfactor)) {
-            tfactor = tu.textureFactor();
-            size_t at = begin(TraceOp::TextureFactor);
-            w.rgba(tfactor);
-            end(at);
-        }
-        for (int i = 0; i < tex::kMaxTexCoordSets; ++i) {
-            const tex::TexGenState& g = tu.texGen(i);
-            if (all || !sameTexGen(g, texGens[size_t(i)])) {
-                texGens[size_t(i)] = g;
-                size_t at = begin(TraceOp::TexGen);
-                w.u8(uint8_t(i));
-                w.u8(uint8_t(g.mode));
-                w.raw(&g.planes, sizeof g.planes);
-                w.u8(g.matrixEnabled ? 1 : 0);
-                w.raw(&g.matrix, sizeof g.matrix);
-                w.u8(g.projected ? 1 : 0);
-                end(at);
-            }
-        }
-        const tex::PixelTextureState& pt = tu.pixelTexture();
-        if (all || !(pt == pixelTexture)) {
-            pixelTexture = pt;
-            size_t at = begin(TraceOp::PixelTexture);
-            w.u8(pt.enabled ? 1 : 0); w.u8(uint8_t(pt.mode)); w.u8(pt.stage);
-            end(at);
-        }
-    }
-
-    // The stages whose texture a draw can read: those before the first disabled colour
-    // op (Direct3D 7's cascade rule, TextureUnits::activeStages()).
-    static uint32_t drawStages(const tex::TextureUnits& tu) {
-        uint32_t m = 0;
-        for (int i = 0; i < tex::kMaxStages; ++i) {
-            if (tu.stage(i).colorOp == tex::TextureOp::Disable) break;
-            m |= 1u << i;
-        }
-        return m;
-    }
-    static uint32_t transferStages(const tex::TextureUnits& tu) {
-        const auto& pt = tu.pixelTexture();
-        return pt.enabled && pt.stage < tex::kMaxStages ? 1u << pt.stage : 0u;
-    }
-};
 
 TraceRecorder::TraceRecorder() : impl_(std::make_unique<Impl>()) {}
 TraceRecorder::~TraceRecorder() = default;
@@ -365,6 +321,7 @@ bool TraceRecorder::finished() const { return impl_->finished; }
 
 void TraceRecorder::finish() {
     if (impl_->finished) return;
+    if (impl_->programmable && !impl_->program.detached) impl_->writeTargetHashes();
     size_t at = impl_->begin(TraceOp::End);
     impl_->end(at);
     impl_->finished = true;
@@ -383,7 +340,7 @@ void TraceRecorder::attach(const Device& dev) {
     m.attached = true;
     ByteWriter w{m.bytes};
     w.raw(kTraceMagic, 8);
-    w.u32(kTraceVersion);
+    w.u32(kTraceVersionFixedFunction);
     size_t at = m.begin(TraceOp::Device);
     const std::string_view name = dev.profile().name;
     w.u8(uint8_t(name.size()));

@@ -3,8 +3,11 @@
 # four build folders (build-gcc-debug, build-gcc-release, build-clang-debug,
 # build-clang-release), each building only retroglass_golden, test_trace and
 # test_programmable, then every
-# golden trace checked against tests/golden/manifest.txt on both paths and 1/3 threads,
-# and the capture-fidelity test. Exit status 0 when all four agree with the manifest.
+# golden trace checked against tests/golden/manifest.txt on both paths and 1, 2 and 3
+# threads (the programmable binary-search trace of version 2 among them, whose program is
+# compiled by each compiler and build type), and the trace tests (capture fidelity, the
+# version-2 frame, replays re-recording their traces). Exit status 0 when all four agree
+# with the manifest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 status=0

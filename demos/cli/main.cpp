@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include "bench_programs.h"
 #include "core/error.h"
 #include "conformance/trace_commands.h"
 #include "core/profile.h"
@@ -35,6 +36,15 @@ struct GlobalOptions {
 int hardwareThreads() {
     unsigned n = std::thread::hardware_concurrency();
     return n == 0 ? 1 : int(n);
+}
+
+// ---- programs ---------------------------------------------------------------------------
+// Every program a trace may name (docs/trace-format.md, version 2;
+// rasterizer/include/rasterizer/program_registry.h): the bench workloads' and each paper's,
+// registered before any command reads or records a programmable trace.
+void registerTracePrograms() {
+    rg::bench::registerPrograms();
+    for (const rg::demos::Reproduction* r : rg::demos::reproductions()) r->registerPrograms();
 }
 
 // ---- profiles ---------------------------------------------------------------------------
@@ -217,6 +227,7 @@ int main(int argc, char** argv) {
 
     CLI11_PARSE(app, argc, argv);
     try {
+        registerTracePrograms();
         if (*profiles) return runProfiles();
         if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, g);
         if (*test) return runTests(testArgs, g);

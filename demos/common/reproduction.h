@@ -140,6 +140,12 @@ class Reproduction {
     }
     // `retroglass bench`: the paper's frame workloads.
     virtual std::vector<BenchCase> benchCases() const { return {}; }
+    // The paper's programmable-profile programs, registered by name for traces
+    // (rg::raster::registerProgram<VP, FP, V>("<paper>/<pass>"), and registerGlslTwin for a
+    // program with a GLSL twin; rasterizer/include/rasterizer/program_registry.h), so that
+    // `retroglass replay` plays its captured frames. `retroglass` calls it for every paper
+    // at startup; it must be safe to call more than once (registering again is a no-op).
+    virtual void registerPrograms() const {}
 };
 
 // A paper not built yet: listed, with what it will run on.

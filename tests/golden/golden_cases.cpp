@@ -1,13 +1,18 @@
 // Golden trace builders: deterministic frames, each exercising one stage of the pipeline
 // through the public Device API (docs/testing.md, "Golden traces"). Sizes are kept small
-// (framebuffers of at most 32×32, textures of at most 16×16) so the files stay a few KB.
+// (framebuffers of at most 32×32, textures of at most 16×16) so the files stay a few KB;
+// the programmable frames are the benchmarks' and demos' own (programBuilders() below),
+// at their own size (the binary-search trace is 1 MiB, its depth texture).
 #include "golden_cases.h"
 
+#include <cstring>
 #include <functional>
 #include <memory>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "bench_programs.h"
+#include "binary_search_retroglass.h"
 #include "core/error.h"
 #include "core/profile.h"
 #include "rasterizer/device.h"
@@ -730,18 +735,60 @@ const std::vector<Builder>& allBuilders() {
     return b;
 }
 
+// ---- the programmable device (trace version 2) -------------------------------------------
+// A frame drawn on a ProgrammableDevice with `recorder` attached; returns its image as the
+// replay shows it (colour target 0 as RGBA8). Its programs are registered by the module
+// that owns them (bench/bench_programs.h), as `retroglass` registers them at startup.
+struct ProgramBuilder {
+    GoldenCase info;
+    std::function<Framebuffer(const std::shared_ptr<TraceRecorder>& recorder)> build;
+};
+
+const std::vector<ProgramBuilder>& programBuilders() {
+    static const std::vector<ProgramBuilder> b = {
+        {{"programmable-binary-search",
+          "geforce8800 (trace version 2): the binary_search benchmark frame (bench/binary_search_workload.h), "
+          "a quad program registered by name searching a 512x512 R32F depth texture point-sampled 8 times per "
+          "pixel into a 512x512 RGBA8 render target"},
+         [](const std::shared_ptr<TraceRecorder>& recorder) {
+             bench::registerPrograms();
+             bench::binary_search::BinarySearchScene scene(1);
+             scene.device.setRecorder(recorder);
+             scene.device.beginFrame();
+             scene.frame();  // exactly the frame `retroglass bench` times
+             scene.device.setRecorder(nullptr);
+             Framebuffer image(bench::binary_search::kWidth, bench::binary_search::kHeight, DepthFormat::None);
+             std::memcpy(static_cast<void*>(image.color().data()), scene.target->renderData8(0, 0),
+                         image.color().size_bytes());
+             return image;
+         }},
+    };
+    return b;
+}
+
 }  // namespace
 
 const std::vector<GoldenCase>& goldenCases() {
     static const std::vector<GoldenCase> cases = [] {
         std::vector<GoldenCase> c;
         for (const Builder& b : allBuilders()) c.push_back(b.info);
+        for (const ProgramBuilder& b : programBuilders()) c.push_back(b.info);
         return c;
     }();
     return cases;
 }
 
+void registerGoldenPrograms() { bench::registerPrograms(); }
+
 std::vector<uint8_t> buildGoldenTrace(const std::string& name, Framebuffer* live) {
+    for (const ProgramBuilder& b : programBuilders()) {
+        if (b.info.name != name) continue;
+        auto rec = std::make_shared<TraceRecorder>();
+        Framebuffer image = b.build(rec);
+        rec->finish();
+        if (live) *live = std::move(image);
+        return rec->bytes();
+    }
     for (const Builder& b : allBuilders()) {
         if (b.info.name != name) continue;
         const Profile& p = profile(b.profile);

@@ -1,5 +1,6 @@
-// The golden traces: each case builds a small frame through the Device API with a
-// TraceRecorder attached (tests/golden/golden_cases.cpp). `retroglass_golden write`
+// The golden traces: each case builds a small frame through the Device API (or, for the
+// programmable profile, the ProgrammableDevice API) with a TraceRecorder attached
+// (tests/golden/golden_cases.cpp). `retroglass_golden write`
 // regenerates tests/golden/*.trace from them; the suite replays each file and compares
 // the SHA-256 of the framebuffer with tests/golden/manifest.txt.
 #pragma once
@@ -18,6 +19,9 @@ struct GoldenCase {
 };
 
 const std::vector<GoldenCase>& goldenCases();
+// Registers the programs the programmable golden traces draw with (bench/bench_programs.h):
+// call before reading one of them.
+void registerGoldenPrograms();
 // The trace bytes of case `name` (throws rg::Error for an unknown name). `live`, when
 // given, receives the capturing device's framebuffer: what a replay must reproduce.
 std::vector<uint8_t> buildGoldenTrace(const std::string& name, raster::Framebuffer* live = nullptr);

@@ -2,6 +2,7 @@
 // depth compare, points, counters, errors, and the reference/fast agreement.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -293,6 +294,30 @@ TEST(ProgrammableFloatTargets, Rgba16fRoundsToNearestEven) {
     }
     dev.clearColor(0, glm::vec4(std::nanf("")));
     EXPECT_TRUE(std::isnan(rt->renderDataF(0, 0)[0].x));
+}
+
+// Clears fill viewport ∩ scissor; a scissor of negative width or height is empty, and
+// the clear writes nothing (it ran off the level before: found by the trace tests'
+// corrupted scissor records).
+TEST(ProgrammableClears, AScissorOfNegativeExtentClearsNothing) {
+    Fixture fx;
+    auto rt = fx.target(8, 8, TexelFormat::RGBA8);
+    ProgrammableDevice dev(g80());
+    ColorTarget ct{rt};
+    dev.setRenderTargets({&ct, 1});
+    dev.clearColor(0, glm::vec4(1.0f));
+    for (const Rect r : {Rect{1, 1, -5, 3}, Rect{2, 6, 3, int32_t(0x80000006u)}, Rect{7, 0, -0x7fffffff, 8}}) {
+        dev.setScissor(&r);
+        dev.clearColor(0, glm::vec4(0.0f));
+        const Rgba8* p = rt->renderData8(0, 0);
+        EXPECT_TRUE(std::all_of(p, p + 64, [](Rgba8 c) { return c == Rgba8{255, 255, 255, 255}; }))
+            << "scissor " << r.x << ", " << r.y << ", " << r.width << ", " << r.height;
+    }
+    const Rect inside{2, 3, 1, 1};
+    dev.setScissor(&inside);
+    dev.clearColor(0, glm::vec4(0.0f));
+    EXPECT_EQ(rt->renderData8(0, 0)[3 * 8 + 2], (Rgba8{0, 0, 0, 0}));
+    EXPECT_EQ(rt->renderData8(0, 0)[3 * 8 + 3], (Rgba8{255, 255, 255, 255}));
 }
 
 TEST(ProgrammableFloatTargets, AdditiveBlendAccumulatesUnclampedAndMrtWritesEachTarget) {

@@ -49,7 +49,9 @@ TEST(TraceReader, RefusesBadMagicVersionAndTrailingBytes) {
     bad[0] = 'X';
     EXPECT_THROW(readTrace(bad), TraceError);
     bad = bytes;
-    bad[8] = 2;  // version 2
+    bad[8] = 3;  // version 3: not one this reader knows
+    EXPECT_THROW(readTrace(bad), TraceError);
+    bad[8] = 0;
     EXPECT_THROW(readTrace(bad), TraceError);
     bad = bytes;
     bad.push_back(0);

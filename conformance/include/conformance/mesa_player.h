@@ -14,7 +14,13 @@ namespace rg::conformance {
 
 // Empty when GL 1.3 can express every record of the trace; otherwise why it cannot
 // (pixel texture, colour tables, 4D textures, a stage op without a combine twin, ...).
+// A programmable trace: empty when every draw's program has a GLSL twin
+// (rasterizer/include/rasterizer/program_registry.h) that OpenGL 3 can run.
 std::string mesaUnsupported(const raster::Trace& trace);
+// What `retroglass bench --trace`, `replay --backend mesa` and `conform` print after
+// "ours only: " for a trace Mesa cannot play (empty when it can): "Mesa lacks <feature>",
+// or "no GLSL twin registered for program '<name>'" and the like for a program.
+std::string oursOnlyReason(const raster::Trace& trace);
 
 struct MesaReplay {
     std::string unsupported;          // non-empty: not played

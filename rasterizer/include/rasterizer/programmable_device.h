@@ -18,6 +18,8 @@
 #include <memory>
 #include <span>
 #include <type_traits>
+#include <typeindex>
+#include <typeinfo>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -578,6 +580,21 @@ struct ProgramKernel {
 using TriangleKernelFn = void (*)(void* self, const ProgramTriangle& t, int rx0, int ry0,
                                   int rx1, int ry1, ProgramCounters& c);
 
+// The key a draw's (vertex program, fragment program, vertex) types are registered under
+// (program_registry.h) and recorded by.
+template <class VP, class FP, class V>
+struct ProgramTriple {};
+
+// What a trace records of a program object: its bytes, none for an empty type (whose one
+// byte is indeterminate).
+template <class T>
+std::span<const uint8_t> recordedBytes(const T& object) {
+    if constexpr (std::is_empty_v<T>)
+        return {};
+    else
+        return {reinterpret_cast<const uint8_t*>(&object), sizeof(T)};
+}
+
 // One vertex after the vertex program.
 struct ProgramVertex {
     glm::vec4 clip{0.0f};
@@ -616,6 +633,23 @@ class ProgrammableDevice {
     void setTexture(int unit, std::shared_ptr<const tex::Texture> texture,
                     const tex::SamplerState& sampler = {});
 
+    // ---- the state as set (what a trace recorder reads at each command) --------------------
+    std::span<const ColorTarget> colorTargets() const;
+    const DepthTarget& depthTarget() const;
+    const Viewport& viewport() const;
+    const Rect* scissor() const;  // nullptr: off
+    const std::shared_ptr<const tex::Texture>& texture(int unit) const;
+    const tex::SamplerState& sampler(int unit) const;
+
+    // ---- capture ----------------------------------------------------------------------------
+    // Attaches a trace recorder (rasterizer/trace.h, docs/trace-format.md version 2): it
+    // writes the ProgrammableDevice record now and is fed at every command from then on.
+    // Drawing with a program that is not registered (program_registry.h) is then an
+    // error naming its types. nullptr (or another recorder) detaches the current one,
+    // which writes the final hash of every render target the trace used; so does the
+    // device's destruction.
+    void setRecorder(std::shared_ptr<TraceRecorder> recorder);
+
     // ---- frames and commands --------------------------------------------------------------
     void beginFrame();
     void clearColor(int target, const glm::vec4& value);  // inside viewport ∩ scissor
@@ -629,6 +663,11 @@ class ProgrammableDevice {
         static_assert(FP::kVaryings >= 0 && FP::kVaryings <= kMaxVaryings, "too many varyings");
         detail::ProgramDraw& d = beginDraw(FP::kVaryings, FP::kTargets, FP::kUnits, primitive,
                                            vertices.size(), indices);
+        if (recorder_)  // after the draw's checks, before any pixel changes
+            recordDraw(typeid(detail::ProgramTriple<VP, FP, V>), detail::recordedBytes(vp),
+                       detail::recordedBytes(fp), FP::kUnits, primitive,
+                       {reinterpret_cast<const uint8_t*>(vertices.data()), vertices.size_bytes()},
+                       uint32_t(sizeof(V)), indices);
         std::vector<detail::ProgramVertex>& out = vertexScratch(vertices.size());
         forEachVertexRange(vertices.size(), [&](size_t b, size_t e) {
             for (size_t i = b; i < e; ++i) out[i].clip = vp(vertices[i], out[i].varyings);
@@ -647,9 +686,13 @@ class ProgrammableDevice {
     void finishDraw(ProgramPrimitive primitive, std::span<const uint32_t> indices,
                     detail::TriangleKernelFn fast, detail::TriangleKernelFn reference,
                     void* kernel);
+    void recordDraw(std::type_index program, std::span<const uint8_t> vertexProgram,
+                    std::span<const uint8_t> fragmentProgram, uint32_t units, ProgramPrimitive primitive,
+                    std::span<const uint8_t> vertices, uint32_t stride, std::span<const uint32_t> indices);
 
     struct Impl;
     std::unique_ptr<Impl> impl_;
+    std::shared_ptr<TraceRecorder> recorder_;  // here, not in Impl: draw() tests it inline
 };
 
 }  // namespace rg::raster

@@ -1,15 +1,21 @@
-// Capture and replay of the emulated device (docs/trace-format.md).
+// Capture and replay of the emulated devices (docs/trace-format.md).
 //
-// A trace is everything a Device was asked to do, in order: the profile and framebuffer,
-// every state that a command reads (pipeline state, transforms, viewport, scissor, texture
-// stages, samplers, TFACTOR, texgen, colour tables, pixel texture), the contents of every
-// texture a command reads (all levels and faces, stored once per content hash), and the
-// commands themselves (clears, draws, pixel transfers, read-backs, frames and passes).
+// A trace is everything a device was asked to do, in order. For the fixed-function Device
+// (version 1): the profile and framebuffer, every state that a command reads (pipeline
+// state, transforms, viewport, scissor, texture stages, samplers, TFACTOR, texgen, colour
+// tables, pixel texture), the contents of every texture a command reads (all levels and
+// faces, stored once per content hash), and the commands themselves (clears, draws, pixel
+// transfers, read-backs, frames and passes). For the ProgrammableDevice (version 2): the
+// profile, the render targets (size, format, contents at first use), the bound targets,
+// program state, viewport, scissor, the texture and sampler of every unit a draw reads,
+// clears, and draws naming their program by its registered name
+// (rasterizer/include/rasterizer/program_registry.h) with the program objects' and
+// vertices' bytes; at the end a hash of every render target's final contents.
 //
-//   capture:  Device ──(setRecorder)──▶ TraceRecorder ──▶ bytes / .trace file
-//   replay:   .trace ──▶ readTrace() ──▶ Trace ──▶ replayTrace() ──▶ Framebuffer
+//   capture:  Device / ProgrammableDevice ──(setRecorder)──▶ TraceRecorder ──▶ .trace file
+//   replay:   .trace ──▶ readTrace() ──▶ Trace ──▶ replayTrace() ──▶ image + hashes
 //
-// The recorder is fed by the Device at each command and diffs the device's current state
+// The recorder is fed by the device at each command and diffs the device's current state
 // against what it last wrote, so applications configure the device (and its texture
 // units) as usual and nothing in texunit/ knows about tracing. Texture contents are
 // hashed at the commands that read them, which also catches re-uploads in place.
@@ -21,6 +27,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <typeindex>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -29,6 +36,7 @@
 #include "core/error.h"
 #include "core/path.h"
 #include "rasterizer/framebuffer.h"
+#include "rasterizer/program.h"
 #include "rasterizer/state.h"
 #include "rasterizer/vertex.h"
 #include "texunit/texture_units.h"
@@ -36,8 +44,15 @@
 namespace rg::raster {
 
 class Device;
+class ProgrammableDevice;
+struct RegisteredProgram;
 
-constexpr uint32_t kTraceVersion = 1;
+// Version 1: the fixed-function Device's records. Version 2 adds the programmable
+// device's. A recorder writes the lowest version that holds its records (a Device's
+// trace is version 1, readable by version-1 readers); the reader reads both.
+constexpr uint32_t kTraceVersionFixedFunction = 1;
+constexpr uint32_t kTraceVersionProgrammable = 2;
+constexpr uint32_t kTraceVersion = 2;  // the newest version readTrace() reads
 // The eight bytes every trace starts with.
 constexpr char kTraceMagic[8] = {'R', 'G', 'T', 'R', 'A', 'C', 'E', '\0'};
 
@@ -45,10 +60,14 @@ constexpr char kTraceMagic[8] = {'R', 'G', 'T', 'R', 'A', 'C', 'E', '\0'};
 enum class TraceOp : uint8_t {
     Device = 0x01,        // profile, framebuffer size, depth format (first record)
     Framebuffer = 0x02,   // initial colour (and depth) contents when not all zero
+    ProgrammableDevice = 0x03,  // v2: profile (first record of a programmable trace)
     State = 0x10,         // PipelineState
     Transforms = 0x11,    // world, view, projection
-    Viewport = 0x12,
+    Viewport = 0x12,      // both devices
     Scissor = 0x13,
+    ProgramState = 0x14,    // v2: ProgramState
+    RenderTargets = 0x15,   // v2: the bound colour targets and depth target
+    ProgramScissor = 0x16,  // v2: the scissor rectangle, or off
     Stage = 0x20,         // StageState of one stage
     Sampler = 0x21,       // SamplerState of one stage
     TextureFactor = 0x22,
@@ -57,7 +76,9 @@ enum class TraceOp : uint8_t {
     PixelTexture = 0x25,
     Texture = 0x26,       // texture contents, identified by their content hash
     BindTexture = 0x27,   // texture of one stage (by content hash, 0: none)
-    BeginFrame = 0x30,
+    RenderTarget = 0x28,    // v2: a render-target texture (identity), contents at first use
+    ProgramTexture = 0x29,  // v2: texture (or render target) and sampler of one unit
+    BeginFrame = 0x30,      // both devices
     BeginPass = 0x31,
     EndFrame = 0x32,
     Clear = 0x40,
@@ -65,6 +86,10 @@ enum class TraceOp : uint8_t {
     DrawPixels = 0x42,
     CopyPixels = 0x43,
     ReadPixels = 0x44,
+    ClearTarget = 0x45,   // v2: clearColor of one target
+    ClearDepth = 0x46,    // v2: clearDepth
+    ProgramDraw = 0x47,   // v2: a draw: program name, program bytes, vertices, indices
+    TargetHash = 0x50,    // v2: after the commands, a render target's final contents hash
     End = 0xff,           // last record: a trace without it is truncated
 };
 
@@ -83,10 +108,19 @@ std::string sha256Hex(const void* data, size_t size);
 // The replay hash of a framebuffer: SHA-256 of its colour bytes (RGBA8, rows top to bottom).
 std::string framebufferHash(const Framebuffer& fb);
 
+// The bytes a render target's stored values take in a trace, all levels and faces (level
+// 0 first, within a level face 0 first, texels x fastest): RGBA8 4 bytes R, G, B, A per
+// texel; R16F, R32F, Depth24, Depth32F one f32; RGBA16F, RGBA32F four f32 (the values as
+// the target holds them, so no format conversion stands between capture and replay).
+std::vector<uint8_t> renderTargetValues(const tex::Texture& target);
+uint64_t renderTargetValueBytes(const tex::TextureDesc& desc);
+
 // ---- capture ---------------------------------------------------------------------------
-// Collects a trace in memory; Device::setRecorder() attaches it (writing the Device
-// record and the framebuffer contents at that moment), the device then feeds it at every
-// command. finish() writes the End record; save() finishes and writes the file.
+// Collects a trace in memory; Device::setRecorder() or ProgrammableDevice::setRecorder()
+// attaches it (writing the device record, and for a Device the framebuffer contents at
+// that moment), the device then feeds it at every command. finish() writes the End record
+// (after a programmable device's final target hashes); save() finishes and writes the
+// file. One recorder records one device.
 class TraceRecorder {
   public:
     TraceRecorder();
@@ -113,6 +147,19 @@ class TraceRecorder {
                     int dstY);
     void readPixels(int x, int y, int width, int height, std::span<const Rgba8> result);
 
+    // ---- called by the ProgrammableDevice --------------------------------------------
+    void attach(const ProgrammableDevice& device);
+    // Writes the final hash of every render target the trace used that still exists; the
+    // recorder takes no more commands.
+    void detach(const ProgrammableDevice& device);
+    void clearColor(const ProgrammableDevice& device, int target, const glm::vec4& value);
+    void clearDepth(const ProgrammableDevice& device, float value);
+    // `program`: typeid(detail::ProgramTriple<VP, FP, V>); `units`: FP::kUnits.
+    void programDraw(const ProgrammableDevice& device, std::type_index program,
+                     std::span<const uint8_t> vertexProgram, std::span<const uint8_t> fragmentProgram,
+                     uint32_t units, ProgramPrimitive primitive, std::span<const uint8_t> vertices,
+                     uint32_t stride, std::span<const uint32_t> indices);
+
   private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
@@ -125,6 +172,28 @@ struct TraceTexture {
     // Packed texels in the format's layout (format.h), level 0 first, within a level
     // face 0 first; each face's level is `levelBytes` long.
     std::vector<std::vector<uint8_t>> levelFaces;  // [level * faces + face]
+};
+
+// A render target of a programmable trace, created by the player at its first use.
+struct TraceRenderTarget {
+    uint64_t id = 0;
+    tex::TextureDesc desc;
+    std::vector<uint8_t> contents;  // renderTargetValues() at first use; empty: all zero
+};
+
+// One attachment of a RenderTargets record: a level and face of a render target.
+struct TraceTargetBinding {
+    uint64_t id = 0;  // 0: none
+    int level = 0, face = 0;
+    friend bool operator==(const TraceTargetBinding&, const TraceTargetBinding&) = default;
+};
+
+struct TraceProgramDraw {
+    const RegisteredProgram* program = nullptr;  // found by name in the registry
+    ProgramPrimitive primitive = ProgramPrimitive::TriangleList;
+    std::vector<uint8_t> vertexProgram, fragmentProgram;  // the objects' bytes
+    std::vector<uint8_t> vertices;  // vertexCount · program->vertexBytes bytes
+    uint32_t vertexCount = 0;
 };
 
 // One record after Device/Framebuffer/Texture. Only the fields of its op are meaningful.
@@ -151,6 +220,15 @@ struct TraceCommand {
     std::vector<Vertex> vertices;
     std::vector<uint32_t> indices;
     std::vector<Rgba8> pixels;
+    // ---- version 2, the programmable device ----
+    ProgramState programState;
+    std::vector<TraceTargetBinding> colorTargets;  // RenderTargets
+    TraceTargetBinding depthTarget;                 // RenderTargets (id 0: none)
+    bool scissorOn = false;                         // ProgramScissor (rect: the rectangle)
+    glm::vec4 clearValue{0.0f};                     // ClearTarget (unit: the target)
+    TraceProgramDraw programDraw;                   // ProgramDraw (indices: its indices)
+    // ProgramTexture: unit, textureId (a Texture or RenderTarget id, 0: none), sampler.
+    // ClearDepth: depthValue.
 };
 
 struct Trace {
@@ -162,11 +240,20 @@ struct Trace {
     std::vector<uint32_t> initialDepth;  // empty: all zero
     std::map<uint64_t, TraceTexture> textures;
     std::vector<TraceCommand> commands;
+    // ---- version 2, the programmable device ----
+    bool programmable = false;  // the first record is ProgrammableDevice
+    std::map<uint64_t, TraceRenderTarget> renderTargets;
+    std::map<uint64_t, uint64_t> targetHashes;  // id → FNV-1a 64 of its final renderTargetValues()
+    // The trace's image: colour target 0 of the last RenderTargets record that binds one
+    // (id 0: none). For a programmable trace, width and height are its size.
+    TraceTargetBinding image;
     int passCount() const;
 };
 
-// Parses and checks the framing and value ranges of every record; does not draw.
-// Throws TraceError.
+// Parses and checks the framing, value ranges and references of every record; does not
+// draw. A programmable trace's programs must be registered (program_registry.h) before it
+// is read: each draw's program is found by name and its recorded sizes checked against
+// the registered types. Throws TraceError.
 Trace readTrace(std::span<const uint8_t> bytes);
 Trace readTraceFile(const std::filesystem::path& file);
 
@@ -178,14 +265,26 @@ struct ReplayOptions {
 };
 
 struct ReplayResult {
+    // The framebuffer; for a programmable trace its image (Trace::image) as RGBA8 (float
+    // targets through tex::floatToRgba8), empty when there is none.
     Framebuffer framebuffer;
+    // What `retroglass replay` prints: SHA-256 of the framebuffer's RGBA8 bytes, and for a
+    // programmable trace of the image's stored values (renderTargetValues() of its bound
+    // level and face: the same bytes for an RGBA8 image).
+    std::string hash;
     int passes = 0;             // passes begun
     int readBacks = 0;          // ReadPixels commands replayed
     int readBackMismatches = 0; // of which returned other bytes than at capture
+    int targetChecks = 0;       // render targets with a TargetHash record
+    int targetMismatches = 0;   // of which ended with other contents than at capture
 };
 
-// Plays the trace on a fresh Device of the trace's profile. Throws TraceError for
-// --pass past the last pass, and whatever the device throws for state it refuses.
-ReplayResult replayTrace(const Trace& trace, const ReplayOptions& options = {});
+// Plays the trace on a fresh device of the trace's profile (Device or
+// ProgrammableDevice). Throws TraceError for --pass past the last pass, and whatever the
+// device throws for state it refuses. `recorder`, when given, is attached to the
+// replaying device from the start: a trace of the replay, the same bytes as the trace
+// replayed (tests/trace checks it).
+ReplayResult replayTrace(const Trace& trace, const ReplayOptions& options = {},
+                         std::shared_ptr<TraceRecorder> recorder = nullptr);
 
 }  // namespace rg::raster
