@@ -65,9 +65,12 @@ std::string slug(const std::string& s) {
 // PSNR per (view, technique variant) as horizontal bars, a group per view.
 void writePlot(const fs::path& file, const nlohmann::json& rows) {
     const int rowHeight = 18, labelWidth = 330, plotWidth = 420, top = 40;
+    // Identical images score +∞ (JSON null): drawn as a full bar labelled ∞, and kept out
+    // of the axis, which spans the finite scores (at most 100 dB).
+    auto finite = [](const nlohmann::json& v) { return v.is_number() && std::isfinite(v.get<double>()); };
     double maxPsnr = 10.0;
     for (const auto& r : rows)
-        if (r["psnr_db"].is_number()) maxPsnr = std::max(maxPsnr, r["psnr_db"].get<double>());
+        if (finite(r["psnr_db"])) maxPsnr = std::max(maxPsnr, std::min(100.0, r["psnr_db"].get<double>()));
     const double axisMax = std::ceil(maxPsnr / 10.0) * 10.0;
     const int height = top + rowHeight * int(rows.size()) + 30;
     std::ofstream f(file);
@@ -92,7 +95,8 @@ void writePlot(const fs::path& file, const nlohmann::json& rows) {
     int row = 0;
     for (const auto& r : rows) {
         const int y = top + rowHeight * row++;
-        const double v = r["psnr_db"].is_number() ? r["psnr_db"].get<double>() : axisMax;
+        const bool inf = !finite(r["psnr_db"]);
+        const double v = inf ? axisMax : std::min(axisMax, r["psnr_db"].get<double>());
         const bool main = r["main"].get<bool>();
         put("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">", labelWidth - 6, y + 12);
         f << htmlEscape(r["view"].get<std::string>() + " · " + r["technique"].get<std::string>() +
@@ -101,7 +105,8 @@ void writePlot(const fs::path& file, const nlohmann::json& rows) {
         put("<rect class=\"psnr\" data-psnr=\"%.2f\" x=\"%d\" y=\"%d\" width=\"%.1f\" height=\"%d\" "
             "fill=\"%s\"/>\n",
             v, labelWidth, y + 2, x(v) - labelWidth, rowHeight - 4, main ? "#2f6db3" : "#9bb7d8");
-        put("<text x=\"%.1f\" y=\"%d\">%.2f</text>\n", x(v) + 4, y + 12, v);
+        if (inf) put("<text x=\"%.1f\" y=\"%d\">∞</text>\n", x(v) + 4, y + 12);
+        else put("<text x=\"%.1f\" y=\"%d\">%.2f</text>\n", x(v) + 4, y + 12, v);
     }
     f << "</svg>\n";
     if (!f) throw Error(file.string() + ": cannot write");

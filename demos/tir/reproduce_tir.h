@@ -53,6 +53,7 @@ class TirReproduction final : public demos::Reproduction {
                                               const std::vector<ray::Camera>& views,
                                               const demos::PrepareOptions& options) const override;
     std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
+    void registerPrograms() const override;
     std::vector<demos::BenchCase> benchCases() const override;
 };
 

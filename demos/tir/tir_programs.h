@@ -237,4 +237,7 @@ struct Wyman05FP {
     }
 };
 
+// Registers every program above under "tir/…" (program_registry.h); idempotent.
+void registerTirPrograms();
+
 }  // namespace rg::tir

@@ -143,6 +143,8 @@ std::unique_ptr<viewer::Demo> TirReproduction::makeDemo(const viewer::DemoOption
     return std::make_unique<TirDemo>(options);
 }
 
+void TirReproduction::registerPrograms() const { registerTirPrograms(); }
+
 std::vector<demos::BenchCase> TirReproduction::benchCases() const {
     // Table 1's kitchen row at 3 bounces, 512² and 1024² (paper: 92 and 51 FPS).
     return {frameCase("kitchen", 512, 3, 92.0), frameCase("kitchen", 1024, 3, 51.0)};

@@ -18,6 +18,8 @@
 #include "rasterizer/device.h"
 #include "rasterizer/trace.h"
 #include "texunit/texture_units.h"
+#include "tir_programs.h"
+#include "tir_renderer.h"
 
 namespace rg::golden {
 
@@ -762,6 +764,29 @@ const std::vector<ProgramBuilder>& programBuilders() {
                          image.color().size_bytes());
              return image;
          }},
+        {{"programmable-tir-frame",
+          "geforce8800 (trace version 2): a frame of Davis & Wyman 2007 (demos/tir), the prism at 64x64 with "
+          "front-and-back search and 3 bounces: back and front faces into RGBA16F normal/linear-depth maps, the "
+          "nearby map with the world behind, the background copied, the refractor's front faces through the "
+          "binary searches, total internal reflection and the exit into a float environment cube"},
+         [](const std::shared_ptr<TraceRecorder>& recorder) {
+             tir::registerTirPrograms();
+             static const tir::TirScene scene = tir::makeTirScene("prism");
+             tir::TirRenderer renderer(scene, 1, Path::Reference, 16);
+             tir::TirSettings s;
+             s.width = s.height = 64;
+             s.envSize = 16;
+             s.frontAndBack = true;
+             renderer.render(scene.camera, s);  // the targets and the environment cube, made once
+             renderer.device().setRecorder(recorder);
+             renderer.render(scene.camera, s);  // the frame the trace holds
+             renderer.device().setRecorder(nullptr);
+             Framebuffer image(64, 64, DepthFormat::None);
+             std::memcpy(static_cast<void*>(image.color().data()),
+                         const_cast<tex::Texture&>(renderer.frameTexture()).renderData8(0, 0),
+                         image.color().size_bytes());
+             return image;
+         }},
     };
     return b;
 }
@@ -778,7 +803,10 @@ const std::vector<GoldenCase>& goldenCases() {
     return cases;
 }
 
-void registerGoldenPrograms() { bench::registerPrograms(); }
+void registerGoldenPrograms() {
+    bench::registerPrograms();
+    tir::registerTirPrograms();
+}
 
 std::vector<uint8_t> buildGoldenTrace(const std::string& name, Framebuffer* live) {
     for (const ProgramBuilder& b : programBuilders()) {
