@@ -15,13 +15,26 @@ namespace rg::conformance {
 
 namespace {
 
+// The framebuffer's bytes as they are. Alpha is declared unassociated: OpenImageIO takes
+// RGBA as premultiplied unless told, and a PNG (whose colour is never premultiplied) would
+// then be written with colour divided by alpha wherever 0 < alpha < 255.
 void writePng(const std::string& file, const raster::Framebuffer& fb) {
     auto out = OIIO::ImageOutput::create(file);
     if (!out) throw Error("cannot write image '" + file + "': " + OIIO::geterror());
     OIIO::ImageSpec spec(fb.width(), fb.height(), 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1);
     if (!out->open(file, spec) || !out->write_image(OIIO::TypeDesc::UINT8, fb.color().data()))
         throw Error("cannot write image '" + file + "': " + out->geterror());
     out->close();
+}
+
+// The bare RGBA8 bytes, rows top to bottom: what the printed SHA-256 is of.
+void writeRaw(const std::string& file, const raster::Framebuffer& fb) {
+    std::FILE* f = std::fopen(file.c_str(), "wb");
+    if (!f) throw Error("cannot write '" + file + "'");
+    const size_t n = fb.color().size_bytes();
+    const bool ok = std::fwrite(fb.color().data(), 1, n, f) == n;
+    if (std::fclose(f) != 0 || !ok) throw Error("cannot write '" + file + "' (disk full?)");
 }
 
 }  // namespace
@@ -30,7 +43,8 @@ TraceCommands::TraceCommands(CLI::App& app) {
     replay_ = app.add_subcommand("replay", "replay a captured trace (docs/trace-format.md) and print "
                                            "the SHA-256 of the raw framebuffer bytes");
     replay_->add_option("file", file_, "the .trace file")->required();
-    replay_->add_option("--out", out_, "write the framebuffer as a PNG");
+    replay_->add_option("--out", out_, "write the framebuffer as a PNG (its bytes as they are, alpha unassociated)");
+    replay_->add_option("--raw", raw_, "write the framebuffer's bare RGBA8 bytes, rows top to bottom");
     replay_->add_option("--pass", pass_, "stop when pass K (from 0) ends: the state after it");
     replay_->add_option("--backend", backend_, "ours (the emulation) or mesa (OSMesa llvmpipe, GL 1.3)")
         ->check(CLI::IsMember({"ours", "mesa"}));
@@ -75,9 +89,10 @@ int TraceCommands::run(int threads, const std::string& path) const {
         fb = std::move(r.framebuffer);
         hash = r.hash;
     }
-    if (!out_.empty()) {
-        if (fb.width() == 0) throw Error("--out: '" + file_ + "' binds no colour target, so it has no image");
-        writePng(out_, fb);
+    if (!out_.empty() || !raw_.empty()) {
+        if (fb.width() == 0) throw Error("--out/--raw: '" + file_ + "' binds no colour target, so it has no image");
+        if (!out_.empty()) writePng(out_, fb);
+        if (!raw_.empty()) writeRaw(raw_, fb);
     }
     std::printf("%s  %s (%s, %dx%d%s)\n", hash.c_str(), file_.c_str(),
                 trace.profile.c_str(), fb.width(), fb.height(),

@@ -1,7 +1,10 @@
 // viewer_png_compare A.png B.png [--rgb] [--crop W H]
+// viewer_png_compare A.png --raw B.rgba W H
 // Exit 0 when the 8-bit pixels are equal: all channels (RGBA), or RGB only with --rgb,
 // over the top-left W×H of both with --crop. Alpha is read unassociated, so the bytes are
-// the file's bytes. Prints the first differing pixel otherwise (exit 1); 2 on bad input.
+// the file's bytes. With --raw, B is bare RGBA8 bytes of W×H (what `retroglass replay
+// --raw` writes), and the counts of pixels with alpha 0, 255 and in between are printed.
+// Prints the first differing pixel otherwise (exit 1); 2 on bad input.
 #include <OpenImageIO/imageio.h>
 
 #include <cstdio>
@@ -42,6 +45,35 @@ int main(int argc, char** argv) {
     }
     bool rgb = false;
     int cw = -1, ch = -1;
+    if (argc == 6 && !std::strcmp(argv[2], "--raw")) {
+        Pixels a, b;
+        if (!load(argv[1], a)) return 2;
+        b.width = std::atoi(argv[4]), b.height = std::atoi(argv[5]), b.channels = 4;
+        FILE* f = std::fopen(argv[3], "rb");
+        if (!f) return std::fprintf(stderr, "cannot read %s\n", argv[3]), 2;
+        b.data.resize(size_t(b.width) * size_t(b.height) * 4);
+        const size_t got = std::fread(b.data.data(), 1, b.data.size(), f);
+        const bool more = std::fgetc(f) != EOF;
+        std::fclose(f);
+        if (got != b.data.size() || more)
+            return std::fprintf(stderr, "%s: not %dx%d RGBA8 bytes\n", argv[3], b.width, b.height), 1;
+        if (a.width != b.width || a.height != b.height || a.channels != 4)
+            return std::fprintf(stderr, "%s is %dx%dx%d, not %dx%dx4\n", argv[1], a.width, a.height, a.channels,
+                                b.width, b.height), 1;
+        long zero = 0, full = 0, partial = 0, differing = 0;
+        for (size_t i = 0; i < b.data.size(); i += 4) {
+            const int alpha = b.data[i + 3];
+            (alpha == 0 ? zero : alpha == 255 ? full : partial)++;
+            for (int c = 0; c < 4; ++c)
+                if (a.data[i + size_t(c)] != b.data[i + size_t(c)] && differing++ == 0)
+                    std::fprintf(stderr, "first difference at pixel %zu channel %d: %d vs %d (alpha %d)\n", i / 4, c,
+                                 a.data[i + size_t(c)], b.data[i + size_t(c)], alpha);
+        }
+        std::printf("alpha 0: %ld, 255: %ld, between: %ld pixels\n", zero, full, partial);
+        if (differing) return std::fprintf(stderr, "%ld channel values differ\n", differing), 1;
+        std::printf("equal: %s holds the bytes of %s\n", argv[1], argv[3]);
+        return 0;
+    }
     for (int i = 3; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--rgb")) rgb = true;
         else if (!std::strcmp(argv[i], "--crop") && i + 2 < argc) cw = std::atoi(argv[i + 1]), ch = std::atoi(argv[i + 2]), i += 2;

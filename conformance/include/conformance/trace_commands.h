@@ -20,7 +20,7 @@ class TraceCommands {
   private:
     CLI::App* replay_;
     CLI::App* conform_;
-    std::string file_, out_, backend_ = "ours", goldenDir_;
+    std::string file_, out_, raw_, backend_ = "ours", goldenDir_;
     int pass_ = -1;
 };
 
