@@ -481,6 +481,12 @@ int ProgrammableDevice::targetHeight() const { return impl_->height; }
 void ProgrammableDevice::setState(const ProgramState& state) {
     if (!(state.pointSize > 0.0f) || !(state.pointSize <= 8192.0f))
         throw InvalidState("point size " + std::to_string(state.pointSize) + " outside (0, 8192]");
+    // BOTHSRCALPHA and BOTHINVSRCALPHA are source factors that set the destination's too
+    // (docs/hardware.md, "Blending"); as a destination factor they mean nothing.
+    for (size_t k = 0; k < state.blend.size(); ++k)
+        if (state.blend[k].dst == BlendFactor::BothSrcAlpha || state.blend[k].dst == BlendFactor::BothInvSrcAlpha)
+            throw InvalidState("render target " + std::to_string(k) + ": BOTHSRCALPHA / BOTHINVSRCALPHA as the "
+                               "destination blend factor (they are source factors that set the destination's)");
     impl_->state = state;
 }
 const ProgramState& ProgrammableDevice::state() const { return impl_->state; }
