@@ -778,12 +778,6 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
                 tableLoadsAll = st.tableLoads;
             }
             if (v.name == "st_halved") tableLoadsSt = st.tableLoads;
-            if (v.name == "uv_halved") {
-                // Fig. 5: one basis pass's alpha alone (eye points' weights × basis).
-                raster::Device bd(octane, N, N, raster::DepthFormat::None, devOpt);
-                bd.setTransforms(glm::mat4(1.0f), viewMatrix(cam), projectionMatrix(cam, N, N));
-                (void)bd;
-            }
             cells.push_back({img, v.name + " (K = " + std::to_string(vq.K) + ", " + num(sT.psnr, 1) + " dB)"});
         }
         cells.push_back({demos::masked(truth.color, truth.mask), "ray traced"});
@@ -825,6 +819,12 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
         rep.claim(demos::claimWithin("vq_colour_passes_cost_4x", "§5",
                                      "The cost of rendering the VQ light field is about four times that of an uncompressed one (colour-pass fragments)",
                                      "vq_over_uncompressed", colourRatio, "paper", 4.0, 0.5, "×"));
+        // The same ordering measured against the uncompressed light field (the compression's
+        // own error, what colour plate 3 shows side by side).
+        rep.claim(demos::claimAtLeast("uv_halved_beats_all_halved_vs_uncompressed", "§5, colour plate 3",
+                                      "Against the uncompressed light field, reducing all 4 dimensions loses more than reducing (u, v) alone",
+                                      "uv_halved", variants["uv_halved"]["psnr_vs_uncompressed"]["psnr_db"].get<double>(), "all_halved",
+                                      variants["all_halved"]["psnr_vs_uncompressed"]["psnr_db"].get<double>(), 0.5, "dB"));
         demos::Claim c;
         c.id = "uncompressed_overflows_compressed_fits";
         c.section = "§5";

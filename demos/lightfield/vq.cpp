@@ -221,8 +221,9 @@ VqStats renderVq(raster::Device& dev, const VqTextures& tx, const VqLightField& 
         for (int q = 0; q < uvParities; ++q) {
             const int pu = q % sh.u, pv = q / sh.u;
             const int parity = ((g / sh.s) * sh.s + g % sh.s) * uvParities + q;
-            tu.setColorTable(0, nullptr);
-            bool tableLoaded = false;
+            // A table load is new contents (the parity's table); the basis pass only turns the
+            // table off (glDisable(TEXTURE_COLOR_TABLE_SGI)) and back on, keeping them.
+            const tex::ColorTable* loaded = nullptr;
             for (int j = g / sh.s; j < s.T; j += sh.t)
                 for (int i = g % sh.s; i < s.S; i += sh.s) {
                     const std::vector<StTriangle> tris = eyePointTriangles(s, i, j, Triangulation::FixedDiagonal);
@@ -260,7 +261,6 @@ VqStats renderVq(raster::Device& dev, const VqTextures& tx, const VqLightField& 
                         a.colorWriteMask = raster::kWriteA;
                         dev.setState(a);
                         tu.setColorTable(0, nullptr);
-                        tableLoaded = false;
                         tu.setTexture(0, tx.basis());
                         tu.setSampler(0, basisSampler);
                         tu.setStage(0, tex::texEnvStage(tex::TexEnvMode::Modulate, tex::BaseFormat::Alpha));
@@ -278,11 +278,11 @@ VqStats renderVq(raster::Device& dev, const VqTextures& tx, const VqLightField& 
                         dev.setState(additiveState());
                         tu.setStage(0, tex::texEnvStage(tex::TexEnvMode::Modulate, decoded));
                     }
-                    if (!tableLoaded) {
-                        tu.setColorTable(0, tx.table(parity));
+                    if (loaded != tx.table(parity).get()) {
+                        loaded = tx.table(parity).get();
                         ++st.tableLoads;
-                        tableLoaded = true;
                     }
+                    tu.setColorTable(0, tx.table(parity));
                     tu.setTexture(0, tx.indexTexture(i / sh.s, j / sh.t));
                     tu.setSampler(0, nearest);
                     const uint64_t f0 = frags();
