@@ -419,7 +419,7 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
             broken.setRgb(i % N, i / N, b > 1.0f - 1e-6f ? glm::vec3(1, 0.2f, 0.2f) : glm::vec3(b));
         }
         ray::writeImage(out / "triangulation.png",
-                        demos::labelledGrid({{sum, "Σ weights, one fixed diagonal"}, {broken, "Σ weights, diagonals per eye point (red: ≥ 1, saturated)"}}, 2));
+                        demos::labelledGrid({{sum, "sum of weights, one fixed diagonal"}, {broken, "sum of weights, diagonals per eye point (red: saturated)"}}, 2));
     }
     progress.advance();
 
@@ -556,8 +556,8 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
         });
         const ray::MaskedScore s4 = ray::compareMasked(truth.color, imageOf(right, N, N), truth.mask, objName + " (Fig. 4 composite)");
         ray::writeImage(out / "figure4.png",
-                        demos::labelledGrid({{imageOf(left, N, N), "glossy reflection × F (mesh, prefiltered map)"},
-                                             {imageOf(centre, N, N), "refraction light field × (1 − F)"},
+                        demos::labelledGrid({{imageOf(left, N, N), "glossy reflection x F (mesh, prefiltered map)"},
+                                             {imageOf(centre, N, N), "refraction light field x (1 - F)"},
                                              {imageOf(right, N, N), "sum"},
                                              {demos::masked(truth.color, truth.mask), "ray traced composite"}},
                                             4));
@@ -808,7 +808,7 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
                     };
                     basis.setRgb(x, y, glm::vec3(hat((x + 0.5f) / M) * hat((y + 0.5f) / M)));
                 }
-            ray::writeImage(out / "figure5.png", demos::labelledGrid({{texImg, "the 2×2 texture"}, {basis, "basis functions of one table (4×4 repetitions, bilinear)"}}, 2));
+            ray::writeImage(out / "figure5.png", demos::labelledGrid({{texImg, "the 2x2 texture"}, {basis, "basis functions of one table (4x4 repetitions, bilinear)"}}, 2));
         }
         rep.claim(demos::claimAtLeast("uncompressed_beats_uv_halved", "§5, colour plate 3",
                                       "The uncompressed light field renders better than the one with reduced resolution on the (u, v)-plane",
@@ -1003,7 +1003,128 @@ nlohmann::json LightfieldReproduction::reproduce(const demos::ReproduceOptions& 
     return runLightfield(s, options);
 }
 
-std::vector<demos::BenchCase> LightfieldReproduction::benchCases() const { return {}; }
+namespace {
+
+// What the benchmarks share: the built-in scene's geometry light field at the quick setting,
+// environment B, a 400² camera.
+struct BenchFixture {
+    LfScene scene;
+    std::unique_ptr<ray::Accel> accel;
+    LightField geo;
+    ParaboloidMap env;
+    HostTexture host;
+    std::unique_ptr<SoftwareLookup> lookup;
+    std::vector<Rgba8> coords;  // a read-back of the Gortler frame
+};
+
+std::shared_ptr<BenchFixture> benchFixture(int threads) {
+    auto f = std::make_shared<BenchFixture>();
+    f->scene = makeScene("");
+    f->accel = std::make_unique<ray::Accel>(f->scene.scene);
+    const LightfieldSettings s = lightfieldSettingsFor(demos::Quality::Quick);
+    f->geo = captureParaboloidField(*f->accel, f->scene.object, geometrySlab(s.geoS, s.geoU), f->scene.mode, f->scene.ior, threads);
+    f->env = makeParaboloidMap(f->scene.envB, s.envSize, autoExposure(f->scene.envB), 2);
+    f->host = hostParaboloidMap(f->env);
+    f->lookup = std::make_unique<SoftwareLookup>(f->host, true);
+    const Profile& o2 = profile(ProfileId::SgiO2);
+    auto mem = std::make_shared<tex::TextureMemory>(o2);
+    SliceTextures slices(mem, f->geo);
+    raster::Device dev(o2, s.timingSize, s.timingSize, raster::DepthFormat::None, {Path::Fast, threads});
+    dev.beginFrame();
+    renderGortler(dev, slices, f->geo, evalCamera(1));
+    f->coords = dev.readPixels(0, 0, s.timingSize, s.timingSize);
+    return f;
+}
+
+// The plain loop: the same trilinear lookup written the obvious way, per pixel in float
+// (no tables, no integer weights), on one thread per row band as TBB gives it.
+Rgba8 plainLookup(const HostTexture& t, Rgba8 px) {
+    const float c[3] = {px.r / 255.0f, px.g / 255.0f, px.b / 255.0f};
+    int i0[3], i1[3];
+    float w1[3];
+    for (int d = 0; d < 3; ++d) {
+        const float u = c[d] * float(t.size[size_t(d)]) - 0.5f;
+        const float f = std::floor(u);
+        i0[d] = std::clamp(int(f), 0, t.size[size_t(d)] - 1);
+        i1[d] = std::clamp(int(f) + 1, 0, t.size[size_t(d)] - 1);
+        w1[d] = u - f;
+    }
+    glm::vec3 acc(0.0f);
+    for (int k = 0; k < 8; ++k) {
+        const int x = k & 1 ? i1[0] : i0[0], y = k & 2 ? i1[1] : i0[1], z = k & 4 ? i1[2] : i0[2];
+        const float w = (k & 1 ? w1[0] : 1 - w1[0]) * (k & 2 ? w1[1] : 1 - w1[1]) * (k & 4 ? w1[2] : 1 - w1[2]);
+        const Rgba8 v = t.texels[(size_t(z) * t.size[1] + size_t(y)) * t.size[0] + size_t(x)];
+        acc += w * glm::vec3(v.r, v.g, v.b);
+    }
+    return {uint8_t(acc.x + 0.5f), uint8_t(acc.y + 0.5f), uint8_t(acc.z + 0.5f), px.a};
+}
+
+}  // namespace
+
+std::vector<demos::BenchCase> LightfieldReproduction::benchCases() const {
+    std::vector<demos::BenchCase> cases;
+    {
+        // §4's Octane frame at 400²: Gortler reconstruction, read-back, pixel texture.
+        demos::BenchCase c;
+        c.name = "lightfield_pixel_texture_400";
+        c.paper = {{"paper_fps", 17.5}};  // "between 15 and 20 fps" on an Octane MXE
+        c.setup = [](int threads) {
+            auto f = benchFixture(threads);
+            struct Frame {
+                std::shared_ptr<BenchFixture> f;
+                std::shared_ptr<tex::TextureMemory> mem;
+                std::unique_ptr<SliceTextures> slices;
+                std::shared_ptr<tex::Texture> env;
+                std::unique_ptr<raster::Device> dev;
+            };
+            auto fr = std::make_shared<Frame>();
+            fr->f = f;
+            const Profile& octane = rg::profile(ProfileId::SgiOctaneMxe);
+            fr->mem = std::make_shared<tex::TextureMemory>(octane);
+            fr->env = uploadParaboloidMap(*fr->mem, f->env);
+            fr->slices = std::make_unique<SliceTextures>(fr->mem, f->geo);
+            fr->dev = std::make_unique<raster::Device>(octane, 400, 400, raster::DepthFormat::None, raster::DeviceOptions{Path::Fast, threads});
+            return std::function<std::map<std::string, double>()>([fr] {
+                raster::Device& d = *fr->dev;
+                d.beginFrame();
+                renderGortler(d, *fr->slices, fr->f->geo, evalCamera(1));
+                const std::vector<Rgba8> px = d.readPixels(0, 0, 400, 400);
+                pixelTextureLookup(d, fr->env, tex::PixelTexGenMode::Rgb, px);
+                d.endFrame();
+                return std::map<std::string, double>{{"fragments", double(d.counters().fragmentsGenerated)}};
+            });
+        };
+        cases.push_back(c);
+    }
+    {
+        // The O2's software lookup of one 400² read-back, against a plain float loop doing
+        // the same trilinear lookup (llvmpipe has no pixel texture: ours only otherwise).
+        demos::BenchCase c;
+        c.name = "lightfield_software_lookup_400";
+        c.paper = {{"paper_fps", 10.0}};  // the whole O2 frame, "about 10 frames per second"
+        c.setup = [](int threads) {
+            auto f = benchFixture(threads);
+            return std::function<std::map<std::string, double>()>([f, threads] {
+                std::vector<Rgba8> px = f->coords;
+                f->lookup->apply(px, threads);
+                return std::map<std::string, double>{{"checksum", double(px[px.size() / 2].r)}};
+            });
+        };
+        c.peer = "plain_loop";
+        c.setupPeer = [](int threads) {
+            auto f = benchFixture(threads);
+            return std::function<std::map<std::string, double>()>([f, threads] {
+                std::vector<Rgba8> px = f->coords;
+                parallelRowsOf(threads, 400, [&](int y) {
+                    for (int x = 0; x < 400; ++x) px[size_t(y) * 400 + x] = plainLookup(f->host, px[size_t(y) * 400 + x]);
+                });
+                return std::map<std::string, double>{{"checksum", double(px[px.size() / 2].r)}};
+            });
+        };
+        cases.push_back(c);
+    }
+    return cases;
+}
 
 const LightfieldReproduction& lightfieldReproduction() {
     static const LightfieldReproduction instance;
