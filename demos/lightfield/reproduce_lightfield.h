@@ -18,7 +18,8 @@ struct LightfieldSettings {
     int timingFrames = 5;       // timed frames per route (median), after a warm-up
     int geoS = 16, geoU = 64;   // the geometry light field of §4 (S = T, U = V)
     int radS = 32, radU = 64;   // the radiance light field of §5 / colour plate 3
-    int vqK = 1024;             // codebook entries (paper: 2^16)
+    int vqK = 1024;             // codebook entries of the all-halved variant (paper: 2^16)
+    int vqKOther = 1024;        // of the (s, t)- and (u, v)-halved variants
     int vqTraining = 32768;     // blocks the codebook is trained on
     int vqIterations = 6;
     int lightGeoS = 8, lightGeoU = 64;  // §4.1: the geometry light field (RGBA8)
