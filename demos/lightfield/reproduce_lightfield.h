@@ -41,6 +41,7 @@ class LightfieldReproduction final : public demos::Reproduction {
     std::string profile() const override { return "sgi-octane-mxe"; }
     nlohmann::json settings(demos::Quality quality) const override;
     nlohmann::json reproduce(const demos::ReproduceOptions& options) const override;
+    std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
     std::vector<demos::BenchCase> benchCases() const override;
 };
 

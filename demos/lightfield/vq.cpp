@@ -292,6 +292,22 @@ VqStats renderVq(raster::Device& dev, const VqTextures& tx, const VqLightField& 
                 }
         }
     tu.setColorTable(0, nullptr);
+    if (sh.uvHalved()) {
+        // The basis passes leave the last basis weight in the destination alpha: set it to
+        // one (a full-window untextured quad, alpha only) so the frame reads as opaque.
+        raster::PipelineState a = additiveState();
+        a.blend = 0;
+        a.colorWriteMask = raster::kWriteA;
+        dev.setState(a);
+        tu.setStage(0, tex::StageState{});
+        std::vector<raster::Vertex> q(6);
+        const glm::vec2 c[6] = {{0, 0}, {float(w), 0}, {float(w), float(h)}, {0, 0}, {float(w), float(h)}, {0, float(h)}};
+        for (int k = 0; k < 6; ++k) {
+            q[size_t(k)].position = glm::vec4(c[k], 0.0f, 1.0f);
+            q[size_t(k)].diffuse = {255, 255, 255, 255};
+        }
+        dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Pretransformed, q);
+    }
     return st;
 }
 

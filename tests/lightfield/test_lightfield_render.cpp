@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "gortler_renderer.h"
+#include "lightfield_demo.h"
 #include "lookup.h"
 #include "reproduce_lightfield.h"
 #include "scratch_dir.h"
@@ -222,6 +223,37 @@ TEST(LightfieldClaims, SmallSettingRunsEndToEndAndTheRoutesAgree) {
     EXPECT_TRUE(holds.at("environment_swap_needs_no_recompute"));
     EXPECT_TRUE(std::filesystem::exists(o.outDir / "figure3.png"));
     EXPECT_TRUE(std::filesystem::exists(o.outDir / "geometry_lightfield.json"));
+}
+
+}  // namespace
+}  // namespace rg::lightfield
+
+namespace rg::lightfield {
+namespace {
+
+TEST(LightfieldDemo, VqFrameAfterALookupFrameEqualsAFreshDevicesFrame) {
+    // The viewer keeps one device and switches modes on it: a VQ frame drawn after a
+    // pixel-texture frame must equal the same VQ frame on a fresh device.
+    LightfieldDemo demo(viewer::DemoOptions{});
+    const Profile& octane = profile(ProfileId::SgiOctaneMxe);
+    raster::Device a(octane, 128, 128, raster::DepthFormat::D24);
+    viewer::findParam(demo.params(), "vq_mode").value = 0;
+    demo.render(a, demo.rig().start);
+    viewer::findParam(demo.params(), "vq_mode").value = 3;
+    demo.render(a, demo.rig().start);
+    raster::Device b(octane, 128, 128, raster::DepthFormat::D24);
+    demo.render(b, demo.rig().start);
+    EXPECT_EQ(a.readPixels(0, 0, 128, 128), b.readPixels(0, 0, 128, 128));
+    // An opaque image (the last pass sets alpha to one) of the lit field, not a black or
+    // saturated frame.
+    double sum = 0;
+    for (const Rgba8& p : b.readPixels(0, 0, 128, 128)) {
+        ASSERT_EQ(p.a, 255);
+        sum += p.r + p.g + p.b;
+    }
+    const double mean = sum / (128.0 * 128.0 * 3.0);
+    EXPECT_GT(mean, 20.0);
+    EXPECT_LT(mean, 235.0);
 }
 
 }  // namespace
