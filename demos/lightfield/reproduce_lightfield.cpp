@@ -864,7 +864,7 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
           "light-field lighting 1 dB over the environment map; the 4× cost within ±0.5; routes equal to the byte.\n\n";
     rep.heading("Left out");
     md << "- The 4D-texture rendering of a VQ light field (§5, Fig. 6: 4D basis textures of 2^4 texels) and Figure 6.\n"
-       << "- `retroglass compare` (no Technique yet); the Gortler reconstruction against llvmpipe in `retroglass bench`.\n\n";
+       << "- `retroglass compare` (no Technique yet).\n\n";
     r["settings"] = {{"quality", demos::qualityName(options.quality)}, {"image_size", N}, {"truth_spp", S.truthSpp},
                      {"timing_size", S.timingSize}, {"timing_frames", S.timingFrames}, {"geometry", {S.geoS, S.geoS, S.geoU, S.geoU}},
                      {"radiance", {S.radS, S.radS, S.radU, S.radU}}, {"vq_codebook", S.vqK}, {"vq_codebook_st_uv", S.vqKOther}, {"vq_training_blocks", S.vqTraining},
