@@ -3,6 +3,7 @@
 // in demos/CMakeLists.txt).
 #include "core/error.h"
 #include "reproduction.h"
+#include "reproduce_lightfield.h"
 #include "reproduce_pem.h"
 #include "reproduce_tir.h"
 
@@ -16,18 +17,13 @@ const std::vector<const Reproduction*>& reproductions() {
         "Hakura & Snyder, \"Realistic Reflections and Refractions on Graphics Hardware With "
         "Hybrid Rendering and Layered Environment Maps\", EGWR 2001",
         "geforce256");
-    static const PlannedReproduction lightfield(
-        "lightfield",
-        "Heidrich, Lensch, Cohen & Seidel, \"Light Field Techniques for Reflections and "
-        "Refractions\", EGWR 1999",
-        "sgi-octane-mxe");
     static const PlannedReproduction impostors(
         "impostors",
         "Dancsik & Minarik, \"Real-time multi-bounce many-object ray tracing with "
         "distance-normal impostors\"",
         "geforce8800");
     static const std::vector<const Reproduction*> all = {&pem::pemReproduction(), &hybrid,
-                                                         &lightfield, &impostors,
+                                                         &lightfield::lightfieldReproduction(), &impostors,
                                                          &tir::tirReproduction()};
     return all;
 }

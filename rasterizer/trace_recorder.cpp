@@ -123,6 +123,11 @@ std::vector<uint8_t> detail::tracePackLevel(const tex::Texture& t, int level, in
                             throw Error("trace capture: a " +
                                         std::string(t.format().name) +
                                         " texel does not round-trip through its packed form");
+                    } else if (t.is16()) {
+                        // I16 keeps its 16-bit value beside the 8-bit expansion.
+                        const uint16_t v = t.texel16(level, face, x, y, z, w);
+                        p[0] = uint8_t(v & 0xff);
+                        p[1] = uint8_t(v >> 8);
                     } else {
                         const Rgba8 c = t.texel8(level, face, x, y, z, w);
                         packTexel8(d.format, c, p);
@@ -144,7 +149,15 @@ uint64_t detail::traceContentHash(const tex::Texture& t) {
         const auto& s = t.levelSize(l);
         const size_t count = size_t(s[0]) * s[1] * s[2] * s[3];
         for (int f = 0; f < t.faces(); ++f) {
-            if (!t.isFloat()) {
+            if (t.is16()) {
+                for (int w = 0; w < s[3]; ++w)
+                    for (int z = 0; z < s[2]; ++z)
+                        for (int y = 0; y < s[1]; ++y)
+                            for (int x = 0; x < s[0]; ++x) {
+                                const uint16_t v = t.texel16(l, f, x, y, z, w);
+                                h = traceHash64(&v, sizeof v, h);
+                            }
+            } else if (!t.isFloat()) {
                 h = traceHash64(t.data8(l, f), count * sizeof(Rgba8), h);
             } else {
                 for (int w = 0; w < s[3]; ++w)
