@@ -43,6 +43,24 @@ TEST_P(PipelinePaths, ClippingNearPlaneKeepsTheFrontHalf) {
     EXPECT_EQ(dev.framebuffer().pixel(16, 8).r, 255);
 }
 
+// The near plane exactly at z = 0: a quad with z = ½(x − x_b) crosses it at ndc x_b, placed
+// 0.05 pixel right of column 127's centre on a 256-wide target, so column 127 is outside
+// and column 128 inside. A plane shifted by a thousandth of w (0.26 pixel here) flips
+// column 127.
+TEST_P(PipelinePaths, ClippingNearPlaneIsExactlyZZero) {
+    Device dev(geforce256(), 256, 8, DepthFormat::None, opts());
+    dev.setState(plainState());
+    const float xb = -0.5f / 128.0f + 0.05f / 128.0f;
+    auto z = [&](float x) { return 0.5f * (x - xb); };
+    std::vector<Vertex> q = {ov(-1, 1, z(-1)), ov(1, 1, z(1)), ov(1, -1, z(1)), ov(-1, -1, z(-1))};
+    dev.draw(Primitive::TriangleFan, VertexSpace::Untransformed, q);
+    for (int y = 0; y < 8; ++y) {
+        EXPECT_EQ(dev.framebuffer().pixel(127, y).r, 0) << "row " << y;
+        EXPECT_EQ(dev.framebuffer().pixel(128, y).r, 255) << "row " << y;
+    }
+    EXPECT_EQ(dev.counters().fragmentsGenerated, 128u * 8u);
+}
+
 TEST_P(PipelinePaths, ClippingBehindTheEyeIsCulled) {
     Device dev(geforce256(), 32, 16, DepthFormat::None, opts());
     dev.setState(plainState());
