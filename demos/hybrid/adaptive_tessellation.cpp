@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -206,6 +207,8 @@ AdaptiveMesh tessellateAdaptively(const LensObject& lens, const ray::Accel& loca
     TessellationStats& st = mesh.stats;
     mesh.positions = lens.positions;
     mesh.normals = lens.normals;
+    mesh.positionId = lens.positionId;
+    uint32_t positionCount = lens.positionCount;
     mesh.traces.resize(mesh.positions.size());
     mesh.traced.assign(mesh.positions.size(), 0);
     const float cosThreshold = std::cos(S.exitAngleDegrees * std::numbers::pi_v<float> / 180.0f);
@@ -247,7 +250,9 @@ AdaptiveMesh tessellateAdaptively(const LensObject& lens, const ray::Accel& loca
     std::vector<uint8_t> mark(mesh.positions.size(), 0);
     for (size_t t = 0; t < baseTris; ++t) {
         const uint32_t* v = &lens.indices[3 * t];
-        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;  // welded sliver
+        const uint32_t* pid = lens.positionId.data();
+        if (pid[v[0]] == pid[v[1]] || pid[v[1]] == pid[v[2]] || pid[v[0]] == pid[v[2]])
+            continue;  // a sliver once welded
         const glm::vec3 &a = mesh.positions[v[0]], &b = mesh.positions[v[1]],
                         &c = mesh.positions[v[2]];
         const glm::vec3 n = glm::cross(b - a, c - a);
@@ -263,21 +268,35 @@ AdaptiveMesh tessellateAdaptively(const LensObject& lens, const ray::Accel& loca
     st.tessellateSeconds += since(t0);
     traceAll(toTrace);
 
-    EdgeHash hash(active.size() * 2);
+    // Two hashes: vertex pairs → the midpoint vertex of that side of the edge, and
+    // position pairs → the midpoint position. Across a crease the two sides have vertices
+    // of their own (their own normals, their own paths) at shared positions.
+    EdgeHash hash(active.size() * 2), positionHash(active.size() * 2);
     std::vector<Tri> leaves;
     std::vector<uint8_t> split;
-    auto midpoint = [&](uint32_t a, uint32_t b, std::vector<uint32_t>& fresh) {
-        uint32_t m = hash.find(a, b);
-        if (m != EdgeHash::kNone) return m;
-        m = uint32_t(mesh.positions.size());
+    auto newVertex = [&](uint32_t a, uint32_t b, uint32_t pm) {
+        const uint32_t m = uint32_t(mesh.positions.size());
         mesh.positions.push_back(0.5f * (mesh.positions[a] + mesh.positions[b]));
-        glm::vec3 n = mesh.normals[a] + mesh.normals[b];
-        const float len = glm::length(n);
-        mesh.normals.push_back(len > 0.0f ? n / len : mesh.normals[a]);
+        glm::vec3 nrm = mesh.normals[a] + mesh.normals[b];
+        const float len = glm::length(nrm);
+        mesh.normals.push_back(len > 0.0f ? nrm / len : mesh.normals[a]);
+        mesh.positionId.push_back(pm);
         mesh.traces.emplace_back();
         mesh.traced.push_back(0);
         win.emplace_back();
         hash.insert(a, b, m);
+        return m;
+    };
+    auto midpoint = [&](uint32_t a, uint32_t b, std::vector<uint32_t>& fresh) {
+        uint32_t m = hash.find(a, b);
+        if (m != EdgeHash::kNone) return m;
+        const uint32_t pa = mesh.positionId[a], pb = mesh.positionId[b];
+        uint32_t pm = positionHash.find(pa, pb);
+        if (pm == EdgeHash::kNone) {
+            pm = positionCount++;
+            positionHash.insert(pa, pb, pm);
+        }
+        m = newVertex(a, b, pm);
         fresh.push_back(m);
         return m;
     };
@@ -371,14 +390,34 @@ AdaptiveMesh tessellateAdaptively(const LensObject& lens, const ray::Accel& loca
 
     // ---- t-junction removal (Figure 6c) ---------------------------------------------------
     t0 = Clock::now();
+    // This side's vertices along edge (a, b), a up to b excluded, by recursive queries.
+    // Where only the other side of a crease split the edge, this side makes its own
+    // vertex there (traced below with the others of its kind).
+    std::vector<uint32_t> creaseFresh;
+    std::function<void(uint32_t, uint32_t, std::vector<uint32_t>&)> along =
+        [&](uint32_t a, uint32_t b, std::vector<uint32_t>& out) {
+            uint32_t m = hash.find(a, b);
+            if (m == EdgeHash::kNone) {
+                const uint32_t pm = positionHash.find(mesh.positionId[a], mesh.positionId[b]);
+                if (pm == EdgeHash::kNone) {
+                    out.push_back(a);
+                    return;
+                }
+                m = newVertex(a, b, pm);
+                creaseFresh.push_back(m);
+            }
+            along(a, m, out);
+            along(m, b, out);
+        };
     std::vector<uint32_t> ring, chain;
     std::vector<uint8_t> mask;
     for (const Tri& t : leaves) {
+        mesh.leaves.insert(mesh.leaves.end(), {t.v[0], t.v[1], t.v[2]});
         ring.clear();
         mask.clear();
         for (int e = 0; e < 3; ++e) {
             chain.clear();
-            hash.edgeVertices(t.v[e], t.v[(e + 1) % 3], chain);
+            along(t.v[e], t.v[(e + 1) % 3], chain);
             for (size_t k = 0; k < chain.size(); ++k) {
                 ring.push_back(chain[k]);
                 // A corner lies on this edge and the one before it.
@@ -394,8 +433,11 @@ AdaptiveMesh tessellateAdaptively(const LensObject& lens, const ray::Accel& loca
         }
         for (size_t k = before; k < mesh.indices.size(); k += 3) mesh.triangleLevel.push_back(t.level);
     }
-    st.outputTriangles = int64_t(mesh.indices.size() / 3);
     st.tessellateSeconds += since(t0);
+    st.creaseVertices = int64_t(creaseFresh.size());
+    st.midpointsTraced += int64_t(creaseFresh.size());
+    if (!creaseFresh.empty()) traceAll(creaseFresh);
+    st.outputTriangles = int64_t(mesh.indices.size() / 3);
     return mesh;
 }
 

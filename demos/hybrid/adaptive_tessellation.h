@@ -56,6 +56,7 @@ struct TessellationStats {
     int64_t splits4 = 0, splits3 = 0, splits2 = 0;
     int64_t leavesSame = 0, leavesSmall = 0, leavesOccluded = 0, leavesCapped = 0;
     int64_t outputTriangles = 0, tjunctionPolygons = 0;
+    int64_t creaseVertices = 0;      // made for a side of a crease the other side split
     int maxLevel = 0;
     ray::RayCounts rays;             // visibility rays as Primary, path rays by kind
     double traceSeconds = 0, tessellateSeconds = 0;
@@ -63,11 +64,14 @@ struct TessellationStats {
 };
 
 struct AdaptiveMesh {
-    std::vector<glm::vec3> positions, normals;  // the object's welded vertices, then midpoints
+    std::vector<glm::vec3> positions, normals;  // the object's vertices, then midpoints
+    std::vector<uint32_t> positionId;            // per vertex: its position (LensObject)
     std::vector<VertexTrace> traces;             // meaningful where traced[i]
     std::vector<uint8_t> traced;
     std::vector<uint32_t> indices;               // conforming front-facing triangles
     std::vector<uint8_t> triangleLevel;          // subdivision level of each (Figure 5)
+    std::vector<uint32_t> leaves;                // the subdivision's leaves (3 vertices
+                                                 // each), before t-junction removal
     TessellationStats stats;
 };
 

@@ -1,5 +1,6 @@
 #include "lens_scene.h"
 
+#include <cmath>
 #include <cstring>
 #include <unordered_map>
 
@@ -110,15 +111,41 @@ LensScene::LensScene(ray::Scene scene, const LensSceneOptions& options) : scene_
         L.layers = L.twoTerms ? options.glassLayers : options.mirrorLayers;
         ray::Mesh world = scene_.worldMesh(i);
         std::vector<uint32_t> remap;
-        weldPositions(world.positions, remap, L.positions);
-        L.normals.assign(L.positions.size(), glm::vec3(0.0f));
-        for (size_t v = 0; v < remap.size(); ++v) L.normals[remap[v]] += world.normals[v];
+        std::vector<glm::vec3> welded;
+        weldPositions(world.positions, remap, welded);
+        L.positionCount = uint32_t(welded.size());
+        // Per position, the classes of normals within the crease angle (greedy, in vertex
+        // order): each class is one vertex.
+        const float cosCrease = std::cos(kCreaseDegrees * 3.14159265358979f / 180.0f);
+        std::vector<std::vector<uint32_t>> classes(welded.size());  // vertex ids per position
+        std::vector<uint32_t> vertexOf(world.positions.size());
+        for (size_t v = 0; v < world.positions.size(); ++v) {
+            const uint32_t pid = remap[v];
+            const glm::vec3 n = world.normals[v];
+            uint32_t chosen = ~0u;
+            for (uint32_t c : classes[pid])
+                if (glm::dot(glm::normalize(L.normals[c]), n) >= cosCrease) {
+                    chosen = c;
+                    break;
+                }
+            if (chosen == ~0u) {
+                chosen = uint32_t(L.positions.size());
+                L.positions.push_back(welded[pid]);
+                L.normals.push_back(glm::vec3(0.0f));
+                L.positionId.push_back(pid);
+                classes[pid].push_back(chosen);
+            }
+            L.normals[chosen] += n;
+            vertexOf[v] = chosen;
+        }
         for (glm::vec3& n : L.normals) {
             float len = glm::length(n);
             n = len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
         }
-        for (uint32_t idx : world.indices) L.indices.push_back(remap[idx]);
-        L.closedManifold = closedAfterWelding(L.indices);
+        for (uint32_t idx : world.indices) L.indices.push_back(vertexOf[idx]);
+        std::vector<uint32_t> byPosition;
+        for (uint32_t v : L.indices) byPosition.push_back(L.positionId[v]);
+        L.closedManifold = closedAfterWelding(byPosition);
         if (!L.closedManifold)
             warnings_.push_back(where + ": lens object '" + L.name + "' is " +
                                 (L.twoTerms ? "glass" : "a mirror") +

@@ -24,12 +24,17 @@ struct LensObject {
     uint32_t object = 0;        // index in the full scene
     bool twoTerms = true;       // glass: reflection and refraction; mirror: reflection only
     int layers = 3;             // the layer count asked for (000 §6: teapot 3, cup 2)
-    // World-space mesh with bit-identical positions merged (Newell's patches each carry
-    // their own copies of shared corners): adjacent triangles share vertex indices, so
-    // the edge hash of 000 §5 sees every shared edge. Normals: the normalised sum of the
-    // merged vertices' normals.
+    // World-space mesh. Vertices at a bit-identical position merge when their normals
+    // agree within kCreaseDegrees (Newell's patches each carry their own copies of shared
+    // corners; the normal is the normalised sum), and stay apart across a crease (the
+    // cup's rim): a vertex is a position and the normal one side of a crease sees there.
+    // positionId names the position alone: the edge hash of 000 §5 keys edges by
+    // positions, so the two sides of a crease share their edges' midpoints and no crack
+    // opens along it.
     std::vector<glm::vec3> positions, normals;
     std::vector<uint32_t> indices;
+    std::vector<uint32_t> positionId;   // per vertex
+    uint32_t positionCount = 0;
     bool closedManifold = true;
     glm::vec3 origin{0.0f};     // EM origin and LBG origin: area-weighted centroid (000 §4.2)
     float boundingRadius = 0;   // largest |vertex − origin|
@@ -75,6 +80,8 @@ class LensScene {
     std::unique_ptr<ray::Accel> countingAccel_, countingVisibility_;
     std::vector<std::unique_ptr<ray::Accel>> countingLocal_;
 };
+
+constexpr float kCreaseDegrees = 30.0f;
 
 // Merges bit-identical positions: `remap` gets each vertex's welded index.
 void weldPositions(const std::vector<glm::vec3>& positions, std::vector<uint32_t>& remap,
