@@ -138,7 +138,7 @@ void HybridRenderer::prepare(const ray::Camera& camera, bool counting) {
     }
 }
 
-void HybridRenderer::alphaClear(const std::string& label) {
+void drawAlphaClear(raster::Device& device_, const std::string& label) {
     // 000 §5: "a polygon that multiplies the framebuffer's rgb values by 1 and its alpha
     // by 0": src·ZERO + dst·SRCCOLOR with src = (255, 255, 255, 0); mulDiv255(x, 255) = x.
     device_.beginPass(label);
@@ -167,7 +167,6 @@ void HybridRenderer::alphaClear(const std::string& label) {
     }
     const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
     device_.draw(raster::Primitive::TriangleList, raster::VertexSpace::Pretransformed, q, idx);
-    ++counts_.alphaClears;
 }
 
 void HybridRenderer::draw(const SampleMaps& a, const SampleMaps* b, float wB) {
@@ -205,7 +204,11 @@ void HybridRenderer::draw(const SampleMaps& a, const SampleMaps* b, float wB) {
                             " has no maps for lens object '" + lens.name + "'");
             const std::string sample = "sample " + std::to_string(q.maps->view) +
                                        (b ? " (weight " + std::to_string(q.weight).substr(0, 4) + ")" : "");
-            if (k > 0) alphaClear("alpha clear before " + lens.name + " " + termName(q.term) + ", " + sample);
+            if (k > 0) {
+                drawAlphaClear(device_, "alpha clear before " + lens.name + " " +
+                                            termName(q.term) + ", " + sample);
+                ++counts_.alphaClears;
+            }
             for (size_t v = 0; v < vs.size(); ++v) vs[v].diffuse = fg_[i][size_t(q.term)][v];
             tex::StageState s0;
             s0.colorOp = TextureOp::Modulate;

@@ -128,7 +128,6 @@ class HybridRenderer {
 
   private:
     void setCamera();
-    void alphaClear(const std::string& label);
     raster::Device& device_;
     std::shared_ptr<tex::TextureMemory> memory_;
     LensScene& scene_;
@@ -142,6 +141,11 @@ class HybridRenderer {
     FrameCounts counts_;
     double texgenS_ = 0;
 };
+
+// 000 §5's alpha clear: a pretransformed polygon over the whole target, depth off, blended
+// src·ZERO + dst·SRCCOLOR with src = (255, 255, 255, 0): rgb × 255/255 (exactly rgb:
+// mulDiv255(x, 255) = x) and alpha × 0. One pass labelled `label`.
+void drawAlphaClear(raster::Device& device, const std::string& label);
 
 // The frame's camera on the device (pem's conventions: Direct3D clip, the ray tracer's
 // field of view).

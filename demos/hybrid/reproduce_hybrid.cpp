@@ -755,6 +755,29 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
                                           std::string("The hybrid frame (") + key + ") needs several times fewer triangle tests than uniform ray tracing",
                                           "test_reduction", t["test_reduction"].get<double>(), "one", 1.0, 1.0, "×"));
     }
+    if (builtin) {
+        // Figure 7: k = 3 for the teapot gives the cup, the columns and the walls.
+        demos::Claim c;
+        c.id = "clustering_cup_columns_walls";
+        c.section = "§4.2, §6, Figure 7";
+        c.statement = "The clustering segments the glass teapot's environment into three layers: "
+                      "the cup, the columns and the walls";
+        c.test = "the cup in L1, all 12 columns in L2, the four walls in L3 (other objects may join "
+                 "a layer: they are listed)";
+        const auto& layers = clusteringJson["teapot"]["layers"];
+        auto layerOf = [&](const std::string& name) {
+            for (size_t l = 0; l < layers.size(); ++l)
+                for (const auto& o : layers[l]["objects"])
+                    if (o.get<std::string>() == name) return int(l);
+            return -1;
+        };
+        c.holds = layers.size() == 3 && layerOf("cup") == 0;
+        for (int i = 0; i < 12; ++i) c.holds = c.holds && layerOf("column" + std::to_string(i)) == 1;
+        for (const char* w : {"room_wall_-x", "room_wall_+x", "room_wall_-z", "room_wall_+z"})
+            c.holds = c.holds && layerOf(w) == 2;
+        for (size_t l = 0; l < layers.size(); ++l) c.measured["L" + std::to_string(l + 1)] = layers[l]["objects"];
+        rep.claim(c);
+    }
     {
         demos::Claim c;
         c.id = "passes_4n_2n";
