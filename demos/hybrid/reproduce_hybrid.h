@@ -44,6 +44,7 @@ class HybridReproduction final : public demos::Reproduction {
     nlohmann::json settings(demos::Quality quality) const override;
     nlohmann::json reproduce(const demos::ReproduceOptions& options) const override;
     std::string appliesTo(const ray::Scene& scene) const override;
+    std::vector<demos::BenchCase> benchCases() const override;
 };
 
 const HybridReproduction& hybridReproduction();
