@@ -4,6 +4,7 @@
 #include <random>
 
 #include "core/profile.h"
+#include "hybrid_demo.h"
 #include "hybrid_precompute.h"
 #include "hybrid_renderer.h"
 #include "raycore/builtin_scenes.h"
@@ -114,6 +115,10 @@ demos::BenchCase frameCase(const std::string& name, int width, int height, int s
 }
 
 }  // namespace
+
+std::unique_ptr<viewer::Demo> HybridReproduction::makeDemo(const viewer::DemoOptions& options) const {
+    return std::make_unique<HybridDemo>(options);
+}
 
 std::vector<demos::BenchCase> HybridReproduction::benchCases() const {
     // 000 §6: 640×480 with 3×3 subsamples, τ = 3 (18.87 s) and τ = 5 (10.48 s); and the

@@ -45,6 +45,7 @@ class HybridReproduction final : public demos::Reproduction {
     nlohmann::json reproduce(const demos::ReproduceOptions& options) const override;
     std::string appliesTo(const ray::Scene& scene) const override;
     std::vector<demos::BenchCase> benchCases() const override;
+    std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
 };
 
 const HybridReproduction& hybridReproduction();
