@@ -50,6 +50,7 @@ HybridRenderer::HybridRenderer(raster::Device& device, std::shared_ptr<tex::Text
     if (layers_.size() != scene_.objects().size())
         throw Error("hybrid: one set of layers per lens object is needed");
     device_.textureUnits().setTextureMemory(memory_);
+    lerpInPass_ = device_.profile().maxTextureStages >= 3;
     const int sets = device_.profile().maxTexCoordSets;
     for (size_t i = 0; i < layers_.size(); ++i) {
         const LensObject& lens = scene_.objects()[i];
@@ -193,8 +194,8 @@ void HybridRenderer::draw(const SampleMaps& a, const SampleMaps* b, float wB) {
         if (mesh.indices.empty()) continue;
         std::vector<Sequence> seqs;
         for (int t = 0; t < (lens.twoTerms ? 2 : 1); ++t) {
-            seqs.push_back({t, &a, b ? 1.0f - wB : 1.0f});
-            if (b) seqs.push_back({t, b, wB});
+            seqs.push_back({t, &a, b && !lerpInPass_ ? 1.0f - wB : 1.0f});
+            if (b && !lerpInPass_) seqs.push_back({t, b, wB});
         }
         auto& vs = vertices_[i];
         for (size_t k = 0; k < seqs.size(); ++k) {
@@ -202,8 +203,15 @@ void HybridRenderer::draw(const SampleMaps& a, const SampleMaps* b, float wB) {
             if (q.maps->maps.size() != layers_.size() || q.maps->maps[i].size() != size_t(n))
                 throw Error("hybrid: sample " + std::to_string(q.maps->view) +
                             " has no maps for lens object '" + lens.name + "'");
-            const std::string sample = "sample " + std::to_string(q.maps->view) +
-                                       (b ? " (weight " + std::to_string(q.weight).substr(0, 4) + ")" : "");
+            const bool lerp = b && lerpInPass_;
+            if (lerp && (b->maps.size() != layers_.size() || b->maps[i].size() != size_t(n)))
+                throw Error("hybrid: sample " + std::to_string(b->view) +
+                            " has no maps for lens object '" + lens.name + "'");
+            const std::string sample =
+                lerp ? "samples " + std::to_string(a.view) + " and " + std::to_string(b->view) +
+                           " lerped (weight " + std::to_string(wB).substr(0, 4) + ")"
+                     : "sample " + std::to_string(q.maps->view) +
+                           (b ? " (weight " + std::to_string(q.weight).substr(0, 4) + ")" : "");
             if (k > 0) {
                 drawAlphaClear(device_, "alpha clear before " + lens.name + " " +
                                             termName(q.term) + ", " + sample);
@@ -216,8 +224,23 @@ void HybridRenderer::draw(const SampleMaps& a, const SampleMaps* b, float wB) {
             s0.colorArg2 = arg::Diffuse;
             s0.alphaOp = TextureOp::SelectArg1;
             s0.alphaArg1 = arg::Texture;
-            tex::StageState s1;
-            if (b) {
+            tex::StageState s1, s2;
+            if (lerp) {
+                // Stage 1 lerps to sample b's texel by TFACTOR.a, stage 2 applies F·G.
+                s0.colorOp = TextureOp::SelectArg1;
+                s1.colorOp = TextureOp::BlendFactorAlpha;
+                s1.colorArg1 = arg::Texture;
+                s1.colorArg2 = arg::Current;
+                s1.alphaOp = TextureOp::BlendFactorAlpha;
+                s1.alphaArg1 = arg::Texture;
+                s1.alphaArg2 = arg::Current;
+                s2.colorOp = TextureOp::Modulate;
+                s2.colorArg1 = arg::Current;
+                s2.colorArg2 = arg::Diffuse;
+                s2.alphaOp = TextureOp::SelectArg1;
+                s2.alphaArg1 = arg::Current;
+                tu.setTextureFactor({0, 0, 0, uint8_t(std::lround(wB * 255.0f))});
+            } else if (b) {
                 s1.colorOp = TextureOp::Modulate;
                 s1.colorArg1 = arg::Current;
                 s1.colorArg2 = arg::TFactor;
@@ -249,8 +272,14 @@ void HybridRenderer::draw(const SampleMaps& a, const SampleMaps* b, float wB) {
                 tu.setStage(0, s0);
                 tu.setSampler(0, layerSampler());
                 tu.setTexture(0, q.maps->maps[i][size_t(l)]);
+                s1.texCoordIndex = s0.texCoordIndex;
                 tu.setStage(1, s1);
-                for (int s = 2; s < device_.profile().maxTextureStages; ++s) tu.setStage(s, {});
+                if (lerp) {
+                    tu.setSampler(1, layerSampler());
+                    tu.setTexture(1, b->maps[i][size_t(l)]);
+                    tu.setStage(2, s2);
+                }
+                for (int s = lerp ? 3 : 2; s < device_.profile().maxTextureStages; ++s) tu.setStage(s, {});
                 device_.draw(raster::Primitive::TriangleList, raster::VertexSpace::Untransformed,
                              vs, mesh.indices);
                 ++counts_.layerPasses;

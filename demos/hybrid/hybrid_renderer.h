@@ -22,6 +22,15 @@
 //   counts:   4n passes between two samples (2n on a sample) for a two-term object of n
 //             layers, 2n (n) for a mirror; alpha clears 3 (1) and 1 (0).
 //
+// On a profile with four stages (geforce3, 000 §5's forecast) the two samples are lerped
+// inside a pass instead: stage 0 the layer texel of sample a, stage 1
+// BLENDFACTORALPHA(texel of b, CURRENT) with TFACTOR.a = the weight of b, stage 2
+// MODULATE(CURRENT, DIFFUSE): one pass per (term, layer), 2n between samples as on one,
+// one alpha clear for a glass object. The paper's "n passes and no clear" would put both
+// terms in one pass, but each term's layers composite "under" their own running alpha and
+// a pass has one destination alpha: two stacks cannot share it, so 2n + 1 is the exact
+// count (a geforce8800 could do all in one pass with up to 4n ≤ 16 textures).
+//
 // The device is display × subsample along each axis (000 §6: 3×3 subsamples); the frame
 // is box-filtered to the display after read-back, counted in "other".
 #pragma once
@@ -122,6 +131,8 @@ class HybridRenderer {
     TessellationSettings& tessellation() { return tess_; }
     double lastTexgenSeconds() const { return texgenS_; }
 
+    // Four stages: lerp the two samples inside a pass (above); two: a pass per sample.
+    bool lerpsInPass() const { return lerpInPass_; }
     static tex::SamplerState layerSampler();
     // Texture bytes of one sample's maps (every object and layer, all levels).
     static uint64_t sampleBytes(const std::vector<LensLayers>& layers);
@@ -140,6 +151,7 @@ class HybridRenderer {
     std::vector<std::array<std::vector<Rgba8>, 2>> fg_;  // per lens, term: F·G per vertex
     FrameCounts counts_;
     double texgenS_ = 0;
+    bool lerpInPass_ = false;
 };
 
 // 000 §5's alpha clear: a pretransformed polygon over the whole target, depth off, blended

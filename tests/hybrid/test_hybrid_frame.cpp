@@ -48,9 +48,10 @@ struct Fixture {
     std::shared_ptr<tex::TextureMemory> memory;
     std::unique_ptr<HybridRenderer> renderer;
     ray::Camera camera;
-    Fixture(bool withBall, int ballLayers, Path path = Path::Fast, int threads = 0)
+    Fixture(bool withBall, int ballLayers, Path path = Path::Fast, int threads = 0,
+            const char* profile = "geforce256")
         : scene(withBall ? test::ballAndBox() : boxOnly(), LensSceneOptions{}),
-          device(profileByName("geforce256"), 160, 120, raster::DepthFormat::D24, {path, threads}),
+          device(profileByName(profile), 160, 120, raster::DepthFormat::D24, {path, threads}),
           memory(std::make_shared<tex::TextureMemory>(device.profile())) {
         std::vector<LensLayers> layers;
         for (const LensObject& L : scene.objects()) {
@@ -136,6 +137,36 @@ TEST(HybridFrame, PassesAre4nBetweenSamplesAnd2nOnASampleWithTheAlphaClears) {
         EXPECT_EQ(f.renderer->counts().alphaClears, 1);
         EXPECT_EQ(int(f.device.counters().passes), 2 * n + 2 + 1);
     }
+}
+
+TEST(HybridFrame, OnFourStagesTheSamplesLerpInsideAPass2nPassesAndOneClear) {
+    for (int n : {1, 3}) {
+        Fixture f(true, n, Path::Fast, 0, "geforce3");
+        ASSERT_TRUE(f.renderer->lerpsInPass());
+        const SampleMaps a = f.constantMaps({{10, 10, 10, 128}, {20, 20, 20, 128}, {30, 30, 30, 255}}, 3);
+        const SampleMaps b = f.constantMaps({{10, 10, 10, 128}, {20, 20, 20, 128}, {30, 30, 30, 255}}, 4);
+        f.renderer->prepare(f.camera);
+        for (const SampleMaps* second : {&b, static_cast<const SampleMaps*>(nullptr)}) {
+            f.renderer->draw(a, second, 0.25f);
+            EXPECT_EQ(f.renderer->counts().layerPasses, 2 * n + 2) << "glass 2n, mirror n (2 layers)";
+            EXPECT_EQ(f.renderer->counts().alphaClears, 1) << "before the glass's refraction term";
+        }
+    }
+    // The compositing on four stages: lerp(64, 64) = 64 whatever the weight, then the same
+    // 8-bit sums as on two stages.
+    Fixture g(false, 0, Path::Fast, 0, "geforce3");
+    const SampleMaps a = g.constantMaps({{64, 64, 64, 128}, {200, 200, 200, 255}}, 0);
+    g.renderer->prepare(g.camera);
+    g.renderer->draw(a, &a, 0.3f);
+    const auto& fb = g.device.framebuffer();
+    int covered = 0;
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x) {
+            if (fb.depth()[size_t(y) * size_t(fb.width()) + size_t(x)] == fb.depthMax()) continue;
+            ++covered;
+            ASSERT_EQ(fb.pixel(x, y).r, 164);
+        }
+    EXPECT_GT(covered, 500);
 }
 
 TEST(HybridFrame, TooManyLayersForTheCoordinateSetsIsRefused) {
