@@ -22,6 +22,7 @@
 #include "raycore/builtin_scenes.h"
 #include "raycore/metrics.h"
 #include "raycore/scene_json.h"
+#include "raycore/shapes.h"
 #include "raycore/tracer_two_term.h"
 #include "raycore/tracer_whitted.h"
 #include "report.h"
@@ -582,6 +583,20 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
             v.renderer->tessellation().tau = S.pre.tau;
             uniformTests = traceReference(lens.countingAccel(), mid.camera, S).triangleTests;
         }
+        // 000 §6: "more complicated environmental geometry will increase the benefit of our
+        // use of approximating shells". The same scene with 64× finer columns: the uniform
+        // ray tracer meets them, the hybrid frame's rays (local geometry only) do not.
+        uint64_t heavyTests = 0, heavyTriangles = 0;
+        if (S.countTests && builtin) {
+            ray::Scene heavy = lens.scene();
+            const int c0 = heavy.findObject("column0");
+            if (c0 >= 0) {
+                heavy.meshes[heavy.objects[size_t(c0)].mesh] = ray::makeCylinder(0.35f, 8.0f, 32 * 64);
+                for (const auto& o : heavy.objects) heavyTriangles += heavy.meshes[o.mesh].triangleCount();
+                const ray::Accel heavyCounting(heavy, ray::AccelOptions{true});
+                heavyTests = traceReference(heavyCounting, mid.camera, S).triangleTests;
+            }
+        }
         const double uT = median(uniformS);
         const double uRays = double(uniform.rays.total());
         auto tauJson = [&](int ti) {
@@ -608,6 +623,10 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
         table = {{"tau3", tauJson(0)},
                  {"tau5", tauJson(1)},
                  {"uniform", {{"frame_s", uT}, {"rays", raysJson(uniform.rays)}, {"triangle_tests", uniformTests}}},
+                 {"heavy_environment", {{"columns_segments", 32 * 64}, {"scene_triangles", heavyTriangles},
+                                        {"uniform_triangle_tests", heavyTests},
+                                        {"test_reduction_tau3", tests[0] ? double(heavyTests) / double(tests[0]) : 0.0},
+                                        {"test_reduction_tau5", tests[1] ? double(heavyTests) / double(tests[1]) : 0.0}}},
                  {"threads", S.threads},
                  {"repetitions", S.tableFrames},
                  {"view", "between"},
@@ -778,6 +797,14 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
                                           std::string("The hybrid frame (") + key + ") needs several times fewer triangle tests than uniform ray tracing",
                                           "test_reduction", t["test_reduction"].get<double>(), "one", 1.0, 1.0, "×"));
     }
+    if (builtin && S.countTests) {
+        const auto& h = table["heavy_environment"];
+        rep.claim(demos::claimAtLeast("complex_environment_increases_benefit", "§6",
+                                      "More complicated environmental geometry increases the benefit of the shells "
+                                      "(columns 64× finer: the uniform ray tracer's tests grow, the hybrid frame's do not)",
+                                      "test_reduction_heavy", h["test_reduction_tau3"].get<double>(),
+                                      "test_reduction", table["tau3"]["test_reduction"].get<double>(), 0.5, "×"));
+    }
     if (builtin) {
         // Figure 7: k = 3 for the teapot gives the cup, the columns and the walls.
         demos::Claim c;
@@ -865,12 +892,47 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
            << num(table["uniform"]["frame_s"].get<double>(), 3) << " s, "
            << count(table["uniform"]["rays"]["total"].get<double>()) << " rays, "
            << count(table["uniform"]["triangle_tests"].get<double>()) << " triangle tests (paper: 480 s, "
-           << "6,153,735 rays, 168,313,768 tests). Times are medians of " << S.tableFrames
+           << "6,153,735 rays, 168,313,768 tests). With the columns 64× finer ("
+           << count(table["heavy_environment"]["scene_triangles"].get<double>()) << " triangles in the scene) the uniform "
+           << "ray tracer makes " << count(table["heavy_environment"]["uniform_triangle_tests"].get<double>())
+           << " tests and the reduction at τ = " << num(S.pre.tau, 0) << " becomes "
+           << num(table["heavy_environment"]["test_reduction_tau3"].get<double>(), 1)
+           << " (the hybrid frame's rays see the lens objects only). Times are medians of " << S.tableFrames
            << " interleaved frames on this machine's CPU (" << (S.threads > 0 ? std::to_string(S.threads) : std::string("all"))
            << " threads); the emulated GeForce's passes are inside \"other\" ("
            << num(t3["emulated_rasterization_s"].get<double>(), 3) << " s at τ = " << num(S.pre.tau, 0) << "). "
            << "Triangle tests come from the counting twins of the same accelerators (an Embree user "
            << "geometry testing one triangle per call), run on the same frame outside the timings.\n\n";
+    }
+    rep.heading("Why our reductions differ from the paper's");
+    {
+        const auto& t3 = table["tau3"];
+        const auto& U = table["uniform"];
+        const double uRays = U["rays"]["total"].get<double>(), hRays = t3["rays"]["total"].get<double>();
+        const double uTests = U["triangle_tests"].get<double>(), hTests = t3["triangle_tests"].get<double>();
+        const double samples = double(W) * H * n * n;
+        md << "- **Tests per ray.** The uniform ray tracer makes " << num(uTests / std::max(1.0, uRays), 1)
+           << " triangle tests per ray here (paper: 27.4), the hybrid frame " << num(hTests / std::max(1.0, hRays), 1)
+           << " (paper: 11.6). Embree's BVH makes the environment's rays cheap — most primary rays meet a "
+              "wall or the floor after a few tests — while the hybrid frame's rays start on the lens surface "
+              "and end near it (a visibility ray grazes the vertex's own triangles), so the test reduction "
+              "follows the ray reduction instead of exceeding it as the paper's does. With 64× finer columns "
+              "the uniform tracer's tests grow by "
+           << num(100.0 * (table["heavy_environment"]["uniform_triangle_tests"].get<double>() / std::max(1.0, uTests) - 1.0), 0)
+           << "% only: a BVH's cost grows with the logarithm of the geometry, which is the paper's point about "
+              "complicated environments made weak by a modern accelerator.\n"
+           << "- **Rays per sample.** The uniform tracer casts " << num(uRays / samples, 2)
+           << " rays per sample (paper: 2.23), shadow rays of the diffuse surfaces included; the vertex rays of "
+              "the hybrid frame depend on τ in subpixels, so their reduction grows with τ (here "
+           << num(t3["ray_reduction"].get<double>(), 1) << "× and " << num(table["tau5"]["ray_reduction"].get<double>(), 1)
+           << "×; paper 6 and 10.8).\n"
+           << "- **Time.** Embree traces a ray in well under a microsecond where the paper's tracer took "
+              "78 µs, and our graphics card is emulated on the same CPU: the passes (\"other\") take "
+           << num(100.0 * t3["other_s"].get<double>() / std::max(1e-9, t3["frame_s"].get<double>()), 0)
+           << "% of the hybrid frame, where the paper's GeForce drew them in hardware. So the time reduction ("
+           << num(t3["time_reduction"].get<double>(), 2) << "× at τ = " << num(S.pre.tau, 0)
+           << ") does not follow the ray and test reductions; the paper's 25–45× came from 78 µs rays and "
+              "hardware texturing.\n\n";
     }
     rep.heading("Quality against the ray tracer");
     {

@@ -47,7 +47,7 @@ TEST(HybridClaims, EveryClaimIsReportedAtASmallSettingAndThePassCountsHold) {
                            "tau3_at_least_tau5", "tau5_noisier_at_edges", "two_term_far_fewer_rays",
                            "two_term_similar_error", "fewer_rays_tau3", "fewer_rays_tau5",
                            "fewer_tests_tau3", "fewer_tests_tau5", "passes_4n_2n",
-                           "clustering_cup_columns_walls"})
+                           "clustering_cup_columns_walls", "complex_environment_increases_benefit"})
         EXPECT_TRUE(ids.count(id)) << id;
     EXPECT_EQ(r["claims_total"].get<int>(), int(ids.size()));
     // The §6 table beside the paper's, the clustering, the passes.
