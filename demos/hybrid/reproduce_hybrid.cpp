@@ -1048,14 +1048,6 @@ nlohmann::json HybridReproduction::reproduce(const demos::ReproduceOptions& opti
     return runHybrid(s, options);
 }
 
-std::string HybridReproduction::appliesTo(const ray::Scene& scene) const {
-    for (const auto& o : scene.objects)
-        if (o.material < scene.materials.size() &&
-            scene.materials[o.material].type != ray::MaterialType::Diffuse)
-            return o.name;
-    return {};
-}
-
 const HybridReproduction& hybridReproduction() {
     static const HybridReproduction instance;
     return instance;

@@ -43,7 +43,7 @@ class HybridReproduction final : public demos::Reproduction {
     std::string profile() const override { return "geforce256"; }
     nlohmann::json settings(demos::Quality quality) const override;
     nlohmann::json reproduce(const demos::ReproduceOptions& options) const override;
-    std::string appliesTo(const ray::Scene& scene) const override;
+    // Not in `retroglass compare` yet (no Technique): appliesTo stays the default, none.
     std::vector<demos::BenchCase> benchCases() const override;
     std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
 };
