@@ -1018,6 +1018,13 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
        << "- **Popping** is the mean change over lens pixels between the nearest-sample frames just before and "
           "after the midpoint (±0.25°), minus the ray tracer's change there. **Edge error**: lens pixels within "
           "2 pixels of a silhouette or where the ray tracer's paths diverge inside the pixel.\n\n";
+    rep.heading("Left out");
+    md << "- **Direct images** for disocclusion prevention (000 §4.3's alternative to stacking nearby "
+          "viewpoints, with a confidence from the distance to the nearest record): prevention here is ray "
+          "continuation and the stacked viewpoints.\n"
+       << "- **Distant layers shared** between lens objects (optional in §4.3): each object infers its own.\n"
+       << "- **A 1D texture for G** (§3, [11]): F·G is interpolated per vertex in the diffuse colour, 8 bits.\n"
+       << "- **`retroglass compare`**: hybrid has no Technique there yet.\n\n";
     r["seconds_total"] = since(tStart);
     r = rep.write(out, r);
     std::printf("hybrid: between PSNR multi %.2f, single %.2f, without prevention %.2f, tau5 %.2f; above multi %.2f single %.2f\n",
