@@ -66,6 +66,8 @@ HybridRenderer::HybridRenderer(raster::Device& device, std::shared_ptr<tex::Text
     }
     meshes_.resize(layers_.size());
     vertices_.resize(layers_.size());
+    indices_.resize(layers_.size());
+    used_.resize(layers_.size());
     fg_.resize(layers_.size());
 }
 
@@ -103,12 +105,27 @@ void HybridRenderer::prepare(const ray::Camera& camera, bool counting) {
         const LensLayers& L = layers_[i];
         const int n = L.layers();
         const int terms = lens.twoTerms ? 2 : 1;
+        // The vertices the triangles use, numbered afresh: Device::draw transforms every
+        // vertex of the array, and the back faces' ones and the unused are half of them.
+        std::vector<uint32_t>& used = used_[i];
+        std::vector<uint32_t> slot(mesh.positions.size(), ~0u);
+        used.clear();
+        indices_[i].resize(mesh.indices.size());
+        for (size_t k = 0; k < mesh.indices.size(); ++k) {
+            uint32_t& s = slot[mesh.indices[k]];
+            if (s == ~0u) {
+                s = uint32_t(used.size());
+                used.push_back(mesh.indices[k]);
+            }
+            indices_[i][k] = s;
+        }
         auto& vs = vertices_[i];
-        vs.resize(mesh.positions.size());
-        for (int t = 0; t < 2; ++t) fg_[i][size_t(t)].assign(mesh.positions.size(), Rgba8{0, 0, 0, 255});
+        vs.resize(used.size());
+        for (int t = 0; t < 2; ++t) fg_[i][size_t(t)].assign(used.size(), Rgba8{0, 0, 0, 255});
         arena.execute([&] {
-            tbb::parallel_for(size_t(0), mesh.positions.size(), [&](size_t v) {
-                raster::Vertex& vx = vs[v];
+            tbb::parallel_for(size_t(0), used.size(), [&](size_t c) {
+                const size_t v = used[c];
+                raster::Vertex& vx = vs[c];
                 vx.position = glm::vec4(mesh.positions[v], 1.0f);
                 vx.normal = mesh.normals[v];
                 vx.diffuse = {255, 255, 255, 255};
@@ -128,7 +145,7 @@ void HybridRenderer::prepare(const ray::Camera& camera, bool counting) {
                         vx.tex[size_t(t * n + l)] = L.shells[size_t(l)].texCoord(o, d);
                     if (paths[t]->valid) {
                         const glm::vec3 fg = glm::clamp(paths[t]->F * paths[t]->G, 0.0f, 1.0f);
-                        fg_[i][size_t(t)][v] = {uint8_t(std::lround(fg.r * 255.0f)),
+                        fg_[i][size_t(t)][c] = {uint8_t(std::lround(fg.r * 255.0f)),
                                                 uint8_t(std::lround(fg.g * 255.0f)),
                                                 uint8_t(std::lround(fg.b * 255.0f)), 255};
                     }
@@ -281,7 +298,7 @@ void HybridRenderer::draw(const SampleMaps& a, const SampleMaps* b, float wB) {
                 }
                 for (int s = lerp ? 3 : 2; s < device_.profile().maxTextureStages; ++s) tu.setStage(s, {});
                 device_.draw(raster::Primitive::TriangleList, raster::VertexSpace::Untransformed,
-                             vs, mesh.indices);
+                             vs, indices_[i]);
                 ++counts_.layerPasses;
             }
         }
@@ -383,7 +400,6 @@ pem::IsolatingRendering HybridRenderer::isolating(size_t lens, int term, int lay
     r.sampler = layerSampler();
     r.render = [this, lens, term, layer](const std::shared_ptr<const tex::Texture>& texture,
                                          const tex::SamplerState& sampler) {
-        const AdaptiveMesh& mesh = meshes_.at(lens);
         auto& vs = vertices_.at(lens);
         device_.beginFrame();
         setCamera();
@@ -396,7 +412,7 @@ pem::IsolatingRendering HybridRenderer::isolating(size_t lens, int term, int lay
         device_.clear(true, {0, 0, 0, 0}, true, 1.0f);
         device_.beginPass("isolate: depth of " + scene_.objects()[lens].name);
         device_.draw(raster::Primitive::TriangleList, raster::VertexSpace::Untransformed, vs,
-                     mesh.indices);
+                     indices_.at(lens));
         device_.beginPass("isolate: " + scene_.objects()[lens].name + " " + termName(term) +
                           " L" + std::to_string(layer + 1) + " texels");
         st.colorWriteMask = raster::kWriteRGBA;
@@ -413,7 +429,7 @@ pem::IsolatingRendering HybridRenderer::isolating(size_t lens, int term, int lay
         tu.setSampler(0, sampler);
         tu.setTexture(0, texture);
         device_.draw(raster::Primitive::TriangleList, raster::VertexSpace::Untransformed, vs,
-                     mesh.indices);
+                     indices_.at(lens));
         device_.endFrame();
         tu.setStage(0, {});
         tu.setTexture(0, nullptr);

@@ -147,7 +147,8 @@ class HybridRenderer {
     TessellationSettings tess_;
     ray::Camera camera_;
     std::vector<AdaptiveMesh> meshes_;
-    std::vector<std::vector<raster::Vertex>> vertices_;
+    std::vector<std::vector<raster::Vertex>> vertices_;   // per lens: the used vertices
+    std::vector<std::vector<uint32_t>> indices_, used_;   // into vertices_; mesh vertex of each
     std::vector<std::array<std::vector<Rgba8>, 2>> fg_;  // per lens, term: F·G per vertex
     FrameCounts counts_;
     double texgenS_ = 0;
