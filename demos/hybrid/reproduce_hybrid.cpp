@@ -664,7 +664,7 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
         multiR.drawLevels();
         ray::Image levels = multiR.displayImage();
         ray::writeImage(out / "figure5_subdivision_levels.png",
-                        demos::labelledGrid({{levels, "subdivision level (darker: deeper), τ = " + demos::num(S.pre.tau, 0)}}, 1));
+                        demos::labelledGrid({{levels, "subdivision level (darker: deeper), tau = " + demos::num(S.pre.tau, 0)}}, 1));
     }
     {
         std::vector<demos::Cell> cells;
@@ -697,8 +697,8 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
                                         3));
     ray::writeImage(out / "figure10_tau.png",
                     demos::labelledGrid({{mid.ref.image, "ray traced (" + demos::num(table["uniform"]["frame_s"].get<double>(), 2) + " s)"},
-                                         {composite(mid.frames["multi_layer"], mid.ref), label(mid, "multi_layer", "τ = " + demos::num(S.pre.tau, 0)) + " (" + demos::num(table["tau3"]["frame_s"].get<double>(), 3) + " s)"},
-                                         {composite(mid.frames["multi_layer_tau_fast"], mid.ref), label(mid, "multi_layer_tau_fast", "τ = " + demos::num(S.tauFast, 0)) + " (" + demos::num(table["tau5"]["frame_s"].get<double>(), 3) + " s)"}},
+                                         {composite(mid.frames["multi_layer"], mid.ref), label(mid, "multi_layer", "tau = " + demos::num(S.pre.tau, 0)) + " (" + demos::num(table["tau3"]["frame_s"].get<double>(), 3) + " s)"},
+                                         {composite(mid.frames["multi_layer_tau_fast"], mid.ref), label(mid, "multi_layer_tau_fast", "tau = " + demos::num(S.tauFast, 0)) + " (" + demos::num(table["tau5"]["frame_s"].get<double>(), 3) + " s)"}},
                                         3));
 
     // ---- results.json -------------------------------------------------------------------------

@@ -110,7 +110,7 @@ std::string Shell::describe() const {
     if (kind == ShellKind::Sphere) o << " r " << radius;
     if (kind == ShellKind::Cylinder) o << " r " << radius << ", y " << yMin << ".." << yMax;
     if (kind == ShellKind::Quad)
-        o << " at distance " << glm::length(center - origin) << ", " << (uMax - uMin) << " × "
+        o << " at distance " << glm::length(center - origin) << ", " << (uMax - uMin) << " x "
           << (vMax - vMin);
     return o.str();
 }
