@@ -205,9 +205,8 @@ nlohmann::json raysJson(const ray::RayCounts& c) {
     return j;
 }
 
+// An integer with thousands separators, as the paper's table prints its counts.
 std::string count(double v) {
-    std::ostringstream o;
-    o.imbue(std::locale::classic());
     const auto n = int64_t(std::llround(v));
     std::string s = std::to_string(n), out;
     for (size_t i = 0; i < s.size(); ++i) {
