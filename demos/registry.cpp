@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "reproduction.h"
 #include "reproduce_lightfield.h"
+#include "reproduce_hybrid.h"
 #include "reproduce_pem.h"
 #include "reproduce_tir.h"
 
@@ -12,17 +13,12 @@ namespace rg::demos {
 const std::vector<const Reproduction*>& reproductions() {
     // In the order the project builds them. A paper not built yet is listed by name, paper
     // and profile; `retroglass reproduce` and the gallery say so.
-    static const PlannedReproduction hybrid(
-        "hybrid",
-        "Hakura & Snyder, \"Realistic Reflections and Refractions on Graphics Hardware With "
-        "Hybrid Rendering and Layered Environment Maps\", EGWR 2001",
-        "geforce256");
     static const PlannedReproduction impostors(
         "impostors",
         "Dancsik & Minarik, \"Real-time multi-bounce many-object ray tracing with "
         "distance-normal impostors\"",
         "geforce8800");
-    static const std::vector<const Reproduction*> all = {&pem::pemReproduction(), &hybrid,
+    static const std::vector<const Reproduction*> all = {&pem::pemReproduction(), &hybrid::hybridReproduction(),
                                                          &lightfield::lightfieldReproduction(), &impostors,
                                                          &tir::tirReproduction()};
     return all;
