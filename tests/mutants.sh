@@ -47,8 +47,12 @@ while IFS= read -r line; do
     else
         for b in $binaries; do
             out=$("$build/bin/$b" --gtest_brief=1 2>&1)
-            names=$(echo "$out" | sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_]*\.[A-Za-z0-9_/]*\).*/\1/p' | sort -u | tr '\n' ' ')
+            rc=$?
+            # Suite.Test, parameterised ones as Prefix/Suite.Test/Param.
+            names=$(echo "$out" | sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_/]*\.[A-Za-z0-9_/]*\).*/\1/p' | sort -u | tr '\n' ' ')
             [ -n "$names" ] && failed="$failed$names"
+            # A crash or an abort names no test: the binary's status says it failed.
+            [ -z "$names" ] && [ $rc -ne 0 ] && failed="$failed$b(exit $rc) "
         done
     fi
     cp "$backup" "$file"; : >"$backup"; file=
