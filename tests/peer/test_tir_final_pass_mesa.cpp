@@ -1,6 +1,7 @@
 // The tir_final_pass workload (bench/tir_final_pass_workload.h): our side is pass 4 of the
 // tir renderer, and llvmpipe's GLSL twin of TirFP renders close to it.
-//   TirFinalPassRetroglass  the benchmark's frame against the renderer's own frame
+//   TirFinalPassRetroglass  the benchmark's frame against the renderer's own frame and
+//                           against the reference path
 //   TirFinalPassMesa        llvmpipe's frame against ours, within a stated closeness; the
 //                           same check refuses shaders with a planted bug
 #include <gtest/gtest.h>
@@ -69,6 +70,19 @@ TEST(TirFinalPassRetroglass, FrameIsThePass4OfTheRenderer) {
     // front of the room; and the count of fragments includes every covered pixel.
     EXPECT_GT(compared, 10000);
     EXPECT_GE(in.fragmentsPerFrame, covered);
+}
+
+// The frame the benchmark times is the reference path's, byte for byte, at the benchmark's
+// size (512² maps: the power-of-two addressing of the wide fetch), one thread and two.
+TEST(TirFinalPassRetroglass, SameBytesOnTheReferencePath) {
+    TirFinalPassScene reference(inputs(), 1, Path::Reference);
+    reference.frame();
+    const std::vector<uint8_t> want = reference.image();
+    for (int threads : {1, 2}) {
+        TirFinalPassScene fast(inputs(), threads);
+        fast.frame();
+        EXPECT_EQ(fast.image(), want) << threads << " threads; " << kRepro;
+    }
 }
 
 // ---- llvmpipe against ours ---------------------------------------------------------------

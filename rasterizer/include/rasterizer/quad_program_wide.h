@@ -233,6 +233,48 @@ template <int kRegs>
     }
 }
 
+// The texels of lanes a (low half) and b (high half) of a vec4-per-texel level.
+[[gnu::target("avx2"), gnu::always_inline]] inline __m256 texelPairAvx2(const float* d, uint64_t a, uint64_t b) {
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(d + 4 * size_t(a))), _mm_loadu_ps(d + 4 * size_t(b)), 1);
+}
+
+// The four-channel point fetch (RGBA16F, RGBA32F: a vec4 per texel, NearestFloat2D::data4)
+// of kRegs registers: nearestFetchAvx2's addressing, each lane's texel one 16-byte load, a
+// register's eight texels turned into x, y, z, w registers (a 4×4 transpose in each
+// 128-bit half: lanes 0–3 from the low half's loads, 4–7 from the high half's), then
+// nearestLoads' lanes outside `live` zeroed and 0 + texel for −0. Four-channel maps are
+// what the image-space searches of the tir demo read (normal and depth in one texel):
+// without this they left the wide kernel quad by quad at every step of the search.
+template <int kRegs>
+[[gnu::target("avx2")]] inline void nearestFetch4Avx2(const NearestFloat2D& n, const void* s, const void* t,
+                                                      const void* live, void* x, void* y, void* z, void* w) {
+    const bool shift = n.widthShift >= 0;
+    const __m128i shiftCount = _mm_cvtsi32_si128(n.widthShift);
+    const __m256i width = _mm256_set1_epi32(n.width);
+    const float* d = &n.data4[0].x;
+    const __m256 zero = _mm256_setzero_ps();
+    for (int k = 0; k < kRegs; ++k) {
+        const __m256i xi = nearestAxisAvx2(_mm256_loadu_ps(static_cast<const float*>(s) + 8 * k), n.axisS);
+        const __m256i yi = nearestAxisAvx2(_mm256_loadu_ps(static_cast<const float*>(t) + 8 * k), n.axisT);
+        const __m256i idx = _mm256_add_epi32(xi, shift ? _mm256_sll_epi32(yi, shiftCount) : _mm256_mullo_epi32(yi, width));
+        const __m128i lo = _mm256_castsi256_si128(idx), hi = _mm256_extracti128_si256(idx, 1);
+        const uint64_t p01 = uint64_t(_mm_cvtsi128_si64(lo)), p23 = uint64_t(_mm_extract_epi64(lo, 1));
+        const uint64_t p45 = uint64_t(_mm_cvtsi128_si64(hi)), p67 = uint64_t(_mm_extract_epi64(hi, 1));
+        const __m256 r0 = texelPairAvx2(d, uint32_t(p01), uint32_t(p45)), r1 = texelPairAvx2(d, p01 >> 32, p45 >> 32);
+        const __m256 r2 = texelPairAvx2(d, uint32_t(p23), uint32_t(p67)), r3 = texelPairAvx2(d, p23 >> 32, p67 >> 32);
+        const __m256 xy01 = _mm256_unpacklo_ps(r0, r1), zw01 = _mm256_unpackhi_ps(r0, r1);  // x0 x1 y0 y1 | x4 x5 y4 y5
+        const __m256 xy23 = _mm256_unpacklo_ps(r2, r3), zw23 = _mm256_unpackhi_ps(r2, r3);
+        const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
+        const __m256 c[4] = {_mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(1, 0, 1, 0)),
+                             _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(3, 2, 3, 2)),
+                             _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(1, 0, 1, 0)),
+                             _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(3, 2, 3, 2))};
+        void* const out[4] = {x, y, z, w};
+        for (int j = 0; j < 4; ++j)
+            _mm256_storeu_ps(static_cast<float*>(out[j]) + 8 * k, _mm256_add_ps(_mm256_and_ps(c[j], m), zero));
+    }
+}
+
 }  // namespace detail
 
 // QuadGroupContext with wide lane types: the same interface and the same per-quad calls,
@@ -307,7 +349,7 @@ class QuadGroupWideContext {
         constexpr int kRegs = WideLanes<N>::kRegs;
         const detail::BoundUnit& b = quads_[0].unit(unit);
         const detail::NearestFloat2D& n = b.nearest;
-        if (!(n.lanes4 && n.data1 && quads_[0].setup_->path == Path::Fast)) [[unlikely]] {
+        if (!(n.lanes4 && quads_[0].setup_->path == Path::Fast)) [[unlikely]] {
             // Copied on this branch only, into storage the compiler cannot move stores
             // to (a thread's own): the caller's temporaries are only read, so they stay
             // in registers on the fast path.
@@ -329,6 +371,11 @@ class QuadGroupWideContext {
             live = live & m;
             for (int k = 0; k < kRegs; ++k) fetches_.r[k] -= live.r[k];  // −1 per fetching lane
         }
+        if (n.data4) {
+            Vec4 r;
+            detail::nearestFetch4Avx2<kRegs>(n, c.x.r, c.y.r, live.r, r.x.r, r.y.r, r.z.r, r.w.r);
+            return r;
+        }
         Float t, one;
         detail::nearestFetchAvx2<kRegs>(n, c.x.r, c.y.r, live.r, t.r);
         for (int k = 0; k < kRegs; ++k) one.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(F{} + 1.0f) & live.r[k]);
@@ -340,8 +387,7 @@ class QuadGroupWideContext {
         for (int k = 0; k < Mask::kRegs; ++k) fetches_.r[k] += live_.r[k] & (I{} + allFetches_);
         allFetches_ = 0;
     }
-    // Quad by quad: filtered samplers, four-channel textures, non-power-of-two WRAP, the
-    // reference path.
+    // Quad by quad: filtered samplers, non-power-of-two WRAP, the reference path.
     using SlowArgs = detail::QuadByQuadSample<Vec4, Float, Mask>;
     template <class Fn>
     Vec4 each(Fn f) const {
