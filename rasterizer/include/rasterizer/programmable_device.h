@@ -320,6 +320,8 @@ inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const ProgramTria
 // The point-sampled fast case of a unit (NearestFloat2D; not valid() when the texture or
 // sampler is not one), resolved once when the unit is bound.
 NearestFloat2D nearestFloat2D(const tex::Texture* texture, const tex::SamplerState& sampler);
+// The bilinear float cube-map case of a unit (LinearFloatCube; not valid() otherwise).
+LinearFloatCube linearFloatCube(const tex::Texture* texture, const tex::SamplerState& sampler);
 
 // The CPU runs AVX2 and RETROGLASS_NO_AVX2 is not set (which keeps the SSE2 kernels, so
 // the tests can hold both to the reference).
