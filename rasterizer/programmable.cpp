@@ -221,6 +221,19 @@ detail::NearestFloat2D detail::nearestFloat2D(const tex::Texture* texture, const
     return n;
 }
 
+detail::LinearFloatCube detail::linearFloatCube(const tex::Texture* texture, const tex::SamplerState& sampler) {
+    LinearFloatCube c;
+    if (!(texture && texture->isFloat() && !texture->singleChannel() &&
+          texture->desc().target == tex::TextureTarget::CubeMap && sampler.magFilter == tex::FilterMode::Linear &&
+          sampler.minFilter == tex::FilterMode::Linear && sampler.mipFilter == tex::MipMode::None))
+        return c;
+    const int base = std::clamp(sampler.baseLevel, 0, texture->levels() - 1);
+    c.data = texture->dataF(base, 0);
+    c.size = texture->levelSize(base)[0];
+    c.faceTexels = int32_t(texture->dataF(base, 1) - texture->dataF(base, 0));
+    return c;
+}
+
 // ---- output merger ------------------------------------------------------------------------
 
 namespace detail {
@@ -516,7 +529,8 @@ void ProgrammableDevice::setTexture(int unit, std::shared_ptr<const tex::Texture
                            " units of profile '" + std::string(impl_->profile.name) + "'");
     if (texture && !texture->complete())
         throw InvalidState("texture bound to unit " + std::to_string(unit) + " has levels never uploaded");
-    const detail::BoundUnit b{texture.get(), sampler, detail::nearestFloat2D(texture.get(), sampler)};
+    const detail::BoundUnit b{texture.get(), sampler, detail::nearestFloat2D(texture.get(), sampler),
+                              detail::linearFloatCube(texture.get(), sampler)};
     impl_->units[size_t(unit)] = b;
     impl_->textures[size_t(unit)] = std::move(texture);
 }
