@@ -1,21 +1,34 @@
 // The Mesa peer: trace records → OpenGL 1.3 fixed function on OSMesa (llvmpipe).
 //
 // What maps how (D3D7 → GL):
-//   pre-transformed vertices  glOrtho(0, w, h, 0, 0, −1) and (x, y, z, 1)/rhw, so that z
-//                              reaches the window unchanged and 1/w is interpolated (both
-//                              sample at pixel centres x + ½, docs/hardware.md)
-//   untransformed vertices    MODELVIEW = view·world, PROJECTION = S·P with S turning
-//                              Direct3D's clip z ∈ [0, w] into GL's [−w, w]
-//   viewport, scissor         y flipped (GL counts rows from the bottom); OSMESA_Y_UP = 0
-//                              makes the buffer's row 0 the top row, as ours
-//   clear                     scissored to viewport ∩ scissor (D3D clears the viewport)
+//   rows                      our row r is GL window row r (OSMESA_Y_UP = 1: buffer row 0 is
+//                              GL's row 0), so every rectangle (viewport, scissor, clears,
+//                              pixel transfers, read-backs) passes unchanged. Not only
+//                              convenient: llvmpipe breaks fill-rule ties by GL's rule with
+//                              y up, which in these rows is Direct3D's top-left rule, ours
+//                              (drawn the other way up, every horizontal edge through pixel
+//                              centres went to the other triangle: 2.3% of raster-fill-rule)
+//   untransformed vertices    MODELVIEW = view·world, PROJECTION = P with clip y negated
+//                              (the image is upside down in GL's terms, right way up in
+//                              ours); glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) keeps
+//                              Direct3D's clip z ∈ [0, w] and window z = minZ + z·(maxZ − minZ)
+//   pre-transformed vertices  (x, y, z, 1)/rhw through a power-of-two viewport and ortho
+//                              matrix (every step a power of two: window positions exact),
+//                              z unchanged, 1/w interpolated, both sampling pixel centres at
+//                              x + ½; scissored to viewport ∩ scissor as ours
+//   cull                      the negated y mirrors GL's winding: D3DCULL_CW culls GL_FRONT
+//                              with GL_CCW front
+//   clear                     scissored to viewport ∩ scissor, colour unmasked
 //   blend factors and ops     glBlendFunc / glBlendEquation; BOTHSRCALPHA as
 //                              (SRC_ALPHA, ONE_MINUS_SRC_ALPHA), BOTHINVSRCALPHA swapped
 //   stages                    GL_COMBINE (ARB_texture_env_combine, _dot3, crossbar)
 //   specular add              GL_COLOR_SUM with the secondary colour
 //   texgen                    TCI modes as REFLECTION_MAP, NORMAL_MAP, EYE_LINEAR
-//   drawPixels / copyPixels   glWindowPos + glPixelZoom(1, −1), texturing, blending and
-//                              tests off (our pixel transfer writes the framebuffer)
+//   drawPixels / copyPixels   glWindowPos at (x, y), rows going up in GL = down in ours;
+//                              texturing, blending and tests off (ours writes the colour
+//                              buffer directly)
+//   initial contents          glDrawPixels of the Framebuffer record's colour and depth, or
+//                              a clear to zero
 #include "conformance/mesa_player.h"
 #include "core/fd_io.h"
 #include "mesa_program_player.h"
@@ -255,9 +268,9 @@ struct GlPlayer {
         // of a fan triangle: GL's first-vertex convention (ARB_provoking_vertex) exactly.
         glProvokingVertex(GL_FIRST_VERTEX_CONVENTION);
         s.specularEnable ? glEnable(GL_COLOR_SUM) : glDisable(GL_COLOR_SUM);
-        // Direct3D culls by the winding seen on screen (clockwise with y down is clockwise
-        // to the eye); GL's window y points up but the image is the same, so D3DCULL_CW
-        // culls GL's clockwise faces: the back faces when GL_CCW is front.
+        // Direct3D culls by the winding seen on screen with y down. GL's window rows are
+        // ours here, but its y points up, so a triangle clockwise on our screen is
+        // counter-clockwise to GL: D3DCULL_CW culls GL's front faces when GL_CCW is front.
         if (s.cull == CullMode::None) {
             glDisable(GL_CULL_FACE);
         } else {
@@ -366,6 +379,9 @@ struct GlPlayer {
 
     void applyTransform(VertexSpace space) {
         if (space == VertexSpace::Pretransformed) {
+            // A square viewport of a power of two P ≥ the target: the ortho matrix scales by
+            // 2/P and the viewport by P/2, so a window position comes back bit for bit
+            // (glOrtho(0, w, …) with w = 30 moved vertices by an ulp, enough to flip ties).
             int P = 1;
             while (P < std::max(w, h)) P *= 2;
             glViewport(0, 0, P, P);
@@ -380,6 +396,7 @@ struct GlPlayer {
         } else {
             glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
             glDepthRange(viewport.minZ, viewport.maxZ);
+            // Clip y negated: our window row r is GL window row r (see the top of the file).
             glm::mat4 p = projection;
             for (int c = 0; c < 4; ++c) p[c][1] = -p[c][1];
             glMatrixMode(GL_PROJECTION);
