@@ -5,6 +5,8 @@
 // RETROGLASS_WRITE_TRACE_SEEDS=1 rewrites them after a change of this file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
