@@ -494,6 +494,12 @@ int ProgrammableDevice::targetHeight() const { return impl_->height; }
 void ProgrammableDevice::setState(const ProgramState& state) {
     if (!(state.pointSize > 0.0f) || !(state.pointSize <= 8192.0f))
         throw InvalidState("point size " + std::to_string(state.pointSize) + " outside (0, 8192]");
+    // Booleans are 0 or 1, as the trace format writes them (docs/trace-format.md).
+    if (state.depthTest > 1 || state.depthWrite > 1)
+        throw InvalidState("depthTest/depthWrite other than 0 or 1");
+    for (size_t k = 0; k < state.blend.size(); ++k)
+        if (state.blend[k].enable > 1)
+            throw InvalidState("render target " + std::to_string(k) + ": blend enable other than 0 or 1");
     // BOTHSRCALPHA and BOTHINVSRCALPHA are source factors that set the destination's too
     // (docs/hardware.md, "Blending"); as a destination factor they mean nothing.
     for (size_t k = 0; k < state.blend.size(); ++k)

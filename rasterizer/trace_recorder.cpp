@@ -23,15 +23,19 @@ int traceFaces(const tex::TextureDesc& desc) {
     return desc.target == tex::TextureTarget::CubeMap ? 6 : 1;
 }
 
-uint64_t traceLevelBytes(const tex::TextureDesc& desc, int level) {
-    int dims = 2;
+int traceDims(const tex::TextureDesc& desc) {
     switch (desc.target) {
-        case tex::TextureTarget::Texture1D: dims = 1; break;
-        case tex::TextureTarget::Texture2D: dims = 2; break;
-        case tex::TextureTarget::Texture3D: dims = 3; break;
-        case tex::TextureTarget::CubeMap: dims = 2; break;
-        case tex::TextureTarget::Texture4D: dims = 4; break;
+        case tex::TextureTarget::Texture1D: return 1;
+        case tex::TextureTarget::Texture2D: return 2;
+        case tex::TextureTarget::Texture3D: return 3;
+        case tex::TextureTarget::CubeMap: return 2;
+        case tex::TextureTarget::Texture4D: return 4;
     }
+    return 2;
+}
+
+uint64_t traceLevelBytes(const tex::TextureDesc& desc, int level) {
+    const int dims = traceDims(desc);
     const std::array<int, 4> base{desc.width, desc.height, desc.depth, desc.size4};
     uint64_t n = uint64_t(tex::formatInfo(desc.format).bytesPerTexel);
     for (int d = 0; d < dims; ++d) n *= uint64_t(std::max(1, base[size_t(d)] >> level));

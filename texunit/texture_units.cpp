@@ -58,6 +58,11 @@ void TextureUnits::setStage(int i, const StageState& s) {
     checkStage(i);
     if (s.colorOp >= TextureOp::Count || s.alphaOp >= TextureOp::Count)
         throw InvalidState("texture op out of range at stage " + std::to_string(i));
+    // Refused here rather than at draw time, so that no state the device holds (and a
+    // trace records) has an ALPHAOP without a meaning (docs/hardware.md, "Texture stages").
+    if (colourOnlyOp(s.alphaOp))
+        throw InvalidState("stage " + std::to_string(i) + ": D3DTOP_" + std::string(textureOpName(s.alphaOp)) +
+                           " is a colour-only op");
     if (s.texCoordIndex >= kMaxTexCoordSets)
         throw InvalidState("stage " + std::to_string(i) + ": texture coordinate index " +
                            std::to_string(s.texCoordIndex) + " outside [0, " +
@@ -237,15 +242,6 @@ void TextureUnits::validate(const Profile& p) const {
     for (int i = 0; i < n; ++i) {
         const Unit& u = units_[size_t(i)];
         const StageState& s = u.stage;
-        switch (s.alphaOp) {
-            case TextureOp::ModulateAlphaAddColor:
-            case TextureOp::ModulateColorAddAlpha:
-            case TextureOp::ModulateInvAlphaAddColor:
-            case TextureOp::ModulateInvColorAddAlpha:
-                throw InvalidState("stage " + std::to_string(i) + ": D3DTOP_" +
-                                   std::string(textureOpName(s.alphaOp)) + " is a colour-only op");
-            default: break;
-        }
         if (s.texCoordIndex >= p.maxTexCoordSets || s.texCoordIndex >= kMaxTexCoordSets)
             throw UnsupportedFeature(std::string(p.name), "texture coordinate set " +
                                                               std::to_string(s.texCoordIndex));

@@ -28,6 +28,16 @@ TEST(ColorTable, IndexIsRoundOfClampTimesNMinus1) {
     EXPECT_EQ(colorTableIndex(43, 4), 1u);  // 0.506 → 1
 }
 
+// Pinned (docs/hardware.md): a table of 0 entries reads none and changes nothing.
+TEST(ColorTable, AnEmptyTableChangesNothing) {
+    ColorTable t;
+    for (BaseFormat f : {BaseFormat::Alpha, BaseFormat::Luminance, BaseFormat::LuminanceAlpha,
+                         BaseFormat::Intensity, BaseFormat::Rgb, BaseFormat::Rgba}) {
+        t.format = f;
+        for (Rgba8 c : {Rgba8{0, 85, 170, 255}, Rgba8{1, 2, 3, 4}}) EXPECT_EQ(applyColorTable(t, c), c);
+    }
+}
+
 TEST(ColorTable, MappingPerTableBaseFormat) {
     ColorTable t;
     for (int i = 0; i < 4; ++i)
