@@ -30,6 +30,11 @@ TirPath traceTirPath(const Accel& accel, const Accel* withoutRefractor, const Ra
     while (hit.valid() && hit.object == o.refractor) {
         const float eta = s.material->ior;
         const glm::vec3 n = s.frontFace ? s.ns : -s.ns;  // against the ray
+        if (inside && path.insideHits < 32) {
+            // The facing as rasterization decides it: by winding, seen from the eye.
+            if (glm::dot(s.ng, s.p - camera.origin) > 0.0f) path.backFacing |= 1u << path.insideHits;
+            ++path.insideHits;
+        }
         glm::vec3 t;
         if (!inside) {
             // Entering (or re-entering after an exit): refraction from air always exists.

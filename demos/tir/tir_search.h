@@ -211,11 +211,25 @@ struct PathState {
     F segments, reflections;
 };
 
+// What traceInside decided at one bounce, for the analysis of Figure 6 (reproduce_tir's
+// front/back agreement with the ray tracer): the lanes still searching, both candidates'
+// validity and which one was taken. Programs pass no observer; the empty one compiles away.
+template <class F, class M>
+struct BounceChoice {
+    int bounce;
+    M searching, backValid, frontValid, useFront;
+};
+struct NoBounceObserver {
+    template <class C>
+    void operator()(const C&) const {}
+};
+
 // The refraction at the front fragment and up to k.bounces searched segments (004 §3).
 // `fetchBack(u, v, live)`, `fetchFront(…)` read the back and front maps.
-template <class F, class M, class FetchBack, class FetchFront>
+template <class F, class M, class FetchBack, class FetchFront, class Observe = NoBounceObserver>
 PathState<F, M> traceInside(const SearchConstants& k, const Vec3L<F>& p, const Vec3L<F>& nFront,
-                            const M& live, FetchBack&& fetchBack, FetchFront&& fetchFront) {
+                            const M& live, FetchBack&& fetchBack, FetchFront&& fetchFront,
+                            Observe&& observe = Observe{}) {
     PathState<F, M> st;
     const Vec3L<F> view = normalize3(p);  // the eye sits at the origin of eye space
     M tir;
@@ -234,15 +248,19 @@ PathState<F, M> traceInside(const SearchConstants& k, const Vec3L<F>& p, const V
         const Candidate<F, M> back =
             candidateOf<F, M>(k, binarySearch(k, s, e, iterations, st.inside, fetchBack), st.origin, st.dir);
         Candidate<F, M> hit = back;
+        M useFront = andNot(back.valid, back.valid);  // all false (lane masks have no literal)
+        M frontValid = useFront;
         if (k.frontAndBack) {
             // Figure 6: the candidate more closely aligned with the ray; the back one on a tie.
             const Candidate<F, M> front = candidateOf<F, M>(
                 k, binarySearch(k, s, e, iterations, st.inside, fetchFront), st.origin, st.dir);
-            const M useFront = andNot(front.valid, back.valid) | (front.valid & (front.cosine > back.cosine));
+            useFront = andNot(front.valid, back.valid) | (front.valid & (front.cosine > back.cosine));
+            frontValid = front.valid;
             hit.point = select3(useFront, front.point, back.point);
             hit.value = select3(useFront, front.value, back.value);
             hit.valid = back.valid | front.valid;
         }
+        observe(BounceChoice<F, M>{b, st.inside, back.valid, frontValid, useFront});
         // Lanes whose candidates both miss are "done bouncing": their ray stays as it is.
         const M moved = st.inside & hit.valid;
         M reflects;

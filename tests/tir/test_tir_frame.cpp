@@ -170,6 +170,11 @@ TEST(TirReference, ARightAnglePrismReflectsTotallyTwice) {
         EXPECT_TRUE(p.hitRefractor) << along;
         EXPECT_EQ(p.tirCount, 2) << along;
         EXPECT_EQ(p.segments, 3) << along;
+        // Seen from the eye (the ray's origin, beyond the hypotenuse) both legs face away and
+        // the hypotenuse faces it: the two reflections lie in the back map, the exit in the
+        // front map (Figure 6's question, answered by hand).
+        EXPECT_EQ(p.insideHits, 3) << along;
+        EXPECT_EQ(p.backFacing, 0b011u) << along;
         // It leaves back towards where it came from: the gradient's colour of −in.
         EXPECT_EQ(p.color, scene.environment.lookup(-in)) << along;
     }

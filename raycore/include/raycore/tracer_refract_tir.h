@@ -32,6 +32,12 @@ struct TirPath {
     bool hitRefractor = false;  // the camera ray's first hit is the refractor
     int segments = 0;           // segments inside the glass
     int tirCount = 0;           // total internal reflections along the path
+    // The hits that end the segments inside the glass, in order (at most 32 recorded): bit
+    // i of `backFacing` is set when the i-th lies on a triangle that faces away from the
+    // camera ray's origin (the eye), as the rasterizer's back-facing map holds it (004 §3,
+    // Figure 6: which of the two depth maps holds the true exit).
+    int insideHits = 0;
+    uint32_t backFacing = 0;
 };
 
 // One path. `withoutRefractor` is the same scene without the refractor; null when that
