@@ -402,8 +402,17 @@ int run(const Options& options, const char* argv0) {
     nlohmann::json ratios = nlohmann::json::array();
     std::printf("\n%-60s %14s %14s %8s\n", "workload (ours vs peer)", "ours items/s",
                 "peer items/s", "ratio");
-    for (const auto& [name, ours] : throughput) {
-        if (implementationOf(name) != "retroglass") continue;
+    // Ours in name order but with the counts as numbers (threads:2 before threads:16).
+    std::vector<std::string> oursNames;
+    for (const auto& [name, ours] : throughput)
+        if (implementationOf(name) == "retroglass") oursNames.push_back(name);
+    std::stable_sort(oursNames.begin(), oursNames.end(),
+                     [](const std::string& a, const std::string& b) {
+                         return std::pair(workloadOf(a), threadsOf(a)) <
+                                std::pair(workloadOf(b), threadsOf(b));
+                     });
+    for (const std::string& name : oursNames) {
+        const double ours = throughput.at(name);
         for (const char* peer : kPeers) {
             auto it = throughput.find(withImplementation(name, peer));
             if (it == throughput.end() || it->second <= 0) continue;
