@@ -337,9 +337,11 @@ int run(const Options& options, const char* argv0) {
     }
     std::printf("retroglass bench: threads %s on a machine with %d hardware threads",
                 list.c_str(), hardware);
-    for (size_t i = 0; i < oversubscribed.size(); ++i)
-        std::printf("%s%d", i == 0 ? "; oversubscribed (more threads than cores): " : ",",
-                    oversubscribed[i]);
+    const char* separator = "; oversubscribed (more threads than hardware threads): ";
+    for (int t : oversubscribed) {
+        std::printf("%s%d", separator, t);
+        separator = ",";
+    }
     std::printf("\n");
     std::fflush(stdout);
 
