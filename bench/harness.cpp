@@ -249,9 +249,13 @@ int drawScalingPanels(SvgWriter& svg, const nlohmann::json& ratios,
                     y0 + 14, t);
         svg.put("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">threads</text>\n",
                 0.5 * (x0 + x1), y0 + 28);
-        for (double v : {0.0, 0.5 * axisTop, axisTop})
-            svg.put("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%.3g</text>\n", x0 - 4,
-                    y(v) + 4, v);
+        for (double v : {0.0, 0.5 * axisTop, axisTop}) {
+            // Items/s with an SI prefix (250M, 1.5G): the axis reads like the console's.
+            const char* prefix = v >= 1e9 ? "G" : v >= 1e6 ? "M" : v >= 1e3 ? "k" : "";
+            const double scale = v >= 1e9 ? 1e9 : v >= 1e6 ? 1e6 : v >= 1e3 ? 1e3 : 1.0;
+            svg.put("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%.3g%s</text>\n",
+                    x0 - 4, y(v) + 4, v / scale, prefix);
+        }
         const struct {
             const char* side;
             const char* colour;
