@@ -297,6 +297,7 @@ void writePlot(const nlohmann::json& ratios, int repetitions,
 // The ratios as the issue tables show them: a row per paired workload, a column per
 // thread count ("-" where a count has no pair, e.g. filtered out).
 void printScalingTable(const nlohmann::json& ratios, const std::vector<int>& threadCounts) {
+    if (ratios.empty()) return;  // ours-only workloads: nothing to pair
     std::map<std::string, std::map<int, double>> rows;
     for (const auto& r : ratios)
         rows[workloadOf(r["benchmark"]) + " vs " + r["peer"].get<std::string>()]
