@@ -34,17 +34,15 @@ void runLlvmpipe(benchmark::State& state, int threads) {
                      binary_search::drawFrameGl, binary_search::kFragmentsPerFrame);
 }
 
-const bool registered = [] {
-    std::vector<int> threadCounts = {1};
-    if (allThreads() > 1) threadCounts.push_back(allThreads());
+// Registered once `retroglass bench` has read its thread counts (harness.h).
+const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
     for (int t : threadCounts)
         benchmark::RegisterBenchmark(
             ("binary_search/llvmpipe/threads:" + std::to_string(t)).c_str(),
             [t](benchmark::State& s) { runLlvmpipe(s, t); })
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
-    return true;
-}();
+});
 
 }  // namespace
 }  // namespace rg::bench

@@ -132,9 +132,8 @@ void runLlvmpipe(benchmark::State& state, int threads) {
     runMesaBenchmark(state, kSize, kSize, threads, setup, frame, 1);
 }
 
-const bool registered = [] {
-    std::vector<int> threadCounts = {1};
-    if (allThreads() > 1) threadCounts.push_back(allThreads());
+// Registered once `retroglass bench` has read its thread counts (harness.h).
+const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
     for (int t : threadCounts) {
         const std::string suffix = "/threads:" + std::to_string(t);
         benchmark::RegisterBenchmark(("lightfield_gortler_400/retroglass" + suffix).c_str(),
@@ -146,8 +145,7 @@ const bool registered = [] {
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
     }
-    return true;
-}();
+});
 
 }  // namespace
 }  // namespace rg::bench

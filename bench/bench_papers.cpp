@@ -25,9 +25,8 @@ void runCase(benchmark::State& state, const demos::BenchCase& c, int threads, bo
     for (const auto& [k, v] : sums) state.counters[k] = frames ? v / double(frames) : 0.0;
 }
 
-const bool registered = [] {
-    std::vector<int> threadCounts = {1};
-    if (allThreads() > 1) threadCounts.push_back(allThreads());
+// Registered once `retroglass bench` has read its thread counts (harness.h).
+const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
     for (const demos::Reproduction* r : demos::reproductions())
         for (const demos::BenchCase& c : r->benchCases())
             for (int t : threadCounts)
@@ -39,8 +38,7 @@ const bool registered = [] {
                         runCase(s, c, t, peer);
                     })->Unit(benchmark::kMillisecond)->UseRealTime();
                 }
-    return true;
-}();
+});
 
 }  // namespace
 }  // namespace rg::bench

@@ -142,15 +142,14 @@ void runLlvmpipe(benchmark::State& state, Workload w, int threads) {
     runMesaBenchmark(state, kWidth, kHeight, threads, setup, frame, mesh->itemsPerFrame);
 }
 
-const bool registered = [] {
+// Registered once `retroglass bench` has read its thread counts (harness.h).
+const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
     const struct {
         const char* name;
         Workload w;
     } workloads[] = {{"fill_flat", Workload::FillFlat},
                      {"fill_gouraud_blend", Workload::FillGouraudBlend},
                      {"small_triangles", Workload::SmallTriangles}};
-    std::vector<int> threadCounts = {1};
-    if (allThreads() > 1) threadCounts.push_back(allThreads());
     for (const auto& wl : workloads)
         for (int t : threadCounts) {
             const std::string suffix = "/threads:" + std::to_string(t);
@@ -164,8 +163,7 @@ const bool registered = [] {
                 ->UseManualTime()
                 ->Unit(benchmark::kMillisecond);
         }
-    return true;
-}();
+});
 
 }  // namespace
 }  // namespace rg::bench

@@ -30,16 +30,14 @@ void runRetroglass(benchmark::State& state, int threads) {
     state.counters["fetches_per_fragment"] = scene.device.counters().meanFetchesPerFragment();
 }
 
-const bool registered = [] {
-    std::vector<int> threadCounts = {1};
-    if (allThreads() > 1) threadCounts.push_back(allThreads());
+// Registered once `retroglass bench` has read its thread counts (harness.h).
+const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
     for (int t : threadCounts)
         benchmark::RegisterBenchmark(("binary_search/retroglass/threads:" + std::to_string(t)).c_str(),
                                      [t](benchmark::State& s) { runRetroglass(s, t); })
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
-    return true;
-}();
+});
 
 }  // namespace
 }  // namespace rg::bench

@@ -217,9 +217,8 @@ void runEmbree(benchmark::State& state, bool secondary, Layout layout, int threa
     state.SetLabel("bare Embree " RTC_VERSION_STRING);
 }
 
-const bool registered = [] {
-    std::vector<int> threadCounts = {1};
-    if (allThreads() > 1) threadCounts.push_back(allThreads());
+// Registered once `retroglass bench` has read its thread counts (harness.h).
+const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
     const struct {
         const char* name;
         bool secondary;
@@ -251,8 +250,7 @@ const bool registered = [] {
                     if (t > 1) b->UseRealTime();
                 }
             }
-    return true;
-}();
+});
 
 }  // namespace
 }  // namespace rg::bench

@@ -315,15 +315,14 @@ void runColorTable(benchmark::State& state, int threads) {
     state.SetItemsProcessed(state.iterations() * int64_t(kQuads) * kWidth * kHeight);
 }
 
-const bool registered = [] {
+// Registered once `retroglass bench` has read its thread counts (harness.h).
+const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
     const struct {
         const char* name;
         Workload w;
     } workloads[] = {{"tex_bilinear_2d", Workload::Bilinear2D},
                      {"tex_cube_trilinear", Workload::CubeTrilinear},
                      {"tex_two_stage_blend", Workload::TwoStageBlend}};
-    std::vector<int> threadCounts = {1};
-    if (allThreads() > 1) threadCounts.push_back(allThreads());
     for (int t : threadCounts) {
         const std::string suffix = "/threads:" + std::to_string(t);
         for (const auto& wl : workloads) {
@@ -346,8 +345,7 @@ const bool registered = [] {
             ->UseRealTime()
             ->Unit(benchmark::kMillisecond);
     }
-    return true;
-}();
+});
 
 }  // namespace
 }  // namespace rg::bench

@@ -53,9 +53,8 @@ void runLlvmpipe(benchmark::State& state, int threads) {
                      in.fragmentsPerFrame);
 }
 
-const bool registered = [] {
-    std::vector<int> threadCounts = {1};
-    if (allThreads() > 1) threadCounts.push_back(allThreads());
+// Registered once `retroglass bench` has read its thread counts (harness.h).
+const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
     for (int t : threadCounts) {
         benchmark::RegisterBenchmark(("tir_final_pass/retroglass/threads:" + std::to_string(t)).c_str(),
                                      [t](benchmark::State& s) { runRetroglass(s, t); })
@@ -66,8 +65,7 @@ const bool registered = [] {
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
     }
-    return true;
-}();
+});
 
 }  // namespace
 }  // namespace rg::bench

@@ -52,13 +52,12 @@ void runOurs(benchmark::State& state, const std::shared_ptr<const raster::Trace>
 
 }  // namespace
 
-void registerTraceBenchmarks(const std::string& file, bool referencePath) {
+void registerTraceBenchmarks(const std::string& file, bool referencePath,
+                             const std::vector<int>& threadCounts) {
     auto trace = std::make_shared<const raster::Trace>(raster::readTraceFile(file));
     const std::string workload = "trace:" + std::filesystem::path(file).stem().string();
     const std::string unsupported = conformance::mesaUnsupported(*trace);
     const Path path = referencePath ? Path::Reference : Path::Fast;
-    std::vector<int> threadCounts = {1};
-    if (allThreads() > 1) threadCounts.push_back(allThreads());
     for (int t : threadCounts) {
         const std::string suffix = "/threads:" + std::to_string(t);
         benchmark::RegisterBenchmark((workload + "/retroglass" + suffix).c_str(),

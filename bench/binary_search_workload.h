@@ -37,9 +37,9 @@
 // llvmpipe to even, which differs at the one pixel whose d·255 is a binary32 tie
 // ((389, 420): d·255 = 156.5, llvmpipe 156, reference 157).
 //
-// Benchmarks (bench/harness.h naming): `binary_search/<impl>/threads:N` for N in {1,
-// allThreads()}, both sides with UseManualTime() (wall-clock seconds per frame, which
-// also gives both the `/manual_time` suffix the harness pairs on) and
+// Benchmarks (bench/harness.h naming): `binary_search/<impl>/threads:N` for each N of
+// `--threads` (default 1 and all cores), both sides with UseManualTime() (wall-clock
+// seconds per frame, which also gives both the `/manual_time` suffix the harness pairs on) and
 // SetItemsProcessed(iterations · kFragmentsPerFrame). The llvmpipe side is
 // bench/bench_binary_search_mesa.cpp; its GL code and a one-frame readback are in
 // bench/binary_search_mesa.h. tests/peer/ checks llvmpipe's image against

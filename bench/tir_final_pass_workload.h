@@ -22,9 +22,9 @@
 // Items      the fragment-program invocations of that draw on ours (early depth test,
 //            primitive order): inputs().fragmentsPerFrame, the same count for both sides.
 //
-// Benchmarks (bench/harness.h naming): `tir_final_pass/<impl>/threads:N`, N ∈ {1,
-// allThreads()}, both with UseManualTime() (wall-clock seconds per frame, which gives both
-// the `/manual_time` suffix the harness pairs on) and SetItemsProcessed(iterations ·
+// Benchmarks (bench/harness.h naming): `tir_final_pass/<impl>/threads:N`, N each of
+// `--threads` (default 1 and all cores), both with UseManualTime() (wall-clock seconds
+// per frame, which gives both the `/manual_time` suffix the harness pairs on) and SetItemsProcessed(iterations ·
 // fragmentsPerFrame): bench/bench_tir_final_pass.cpp. Ours: bench/tir_final_pass_retroglass.h;
 // llvmpipe's GLSL twin of TirFP and EyeVP: bench/tir_final_pass_mesa.cpp. The two cannot
 // agree bit for bit (llvmpipe's own float ↔ binary16 and cube-map filtering, 1/√x and

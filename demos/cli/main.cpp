@@ -19,7 +19,7 @@
 #include "reproduction.h"
 #include "view_command.h"
 #ifdef RETROGLASS_HAVE_BENCH
-#include "harness.h"
+#include "bench_command.h"
 #endif
 
 namespace fs = std::filesystem;
@@ -207,22 +207,8 @@ int main(int argc, char** argv) {
     test->add_option("ctest-args", testArgs, "extra arguments for ctest (e.g. -R blend)");
 
 #ifdef RETROGLASS_HAVE_BENCH
-    rg::bench::Options benchOptions;
-    auto* bench = app.add_subcommand(
-        "bench", "benchmarks against the peers measured in the same run, with ratios");
-    bench->add_option("--filter", benchOptions.filter, "regular expression over benchmark names");
-    bench->add_option("--json", benchOptions.jsonPath, "write throughputs and ratios as JSON");
-    bench->add_option("--plot", benchOptions.plotPath,
-                      "write the ratios as an SVG bar chart, each with its goal");
-    bench->add_option("--min-time", benchOptions.minTime, "seconds per benchmark");
-    bench->add_option("--repetitions", benchOptions.repetitions,
-                      "runs of each benchmark, ours and the peers interleaved at random; "
-                      "ratios of the medians (for a noisy machine)")
-        ->check(CLI::PositiveNumber);
-    bench->add_option("--trace", benchOptions.trace,
-                      "time the replay of a captured trace on ours and on Mesa llvmpipe "
-                      "(ours only where Mesa lacks a feature) instead of the built-in workloads");
-    bench->fallthrough();  // `bench --trace F --threads N`: the global options after it too
+    rg::bench::BenchCommand bench;
+    bench.add(app, /*withTrace=*/true);
 #endif
 
     CLI11_PARSE(app, argc, argv);
@@ -247,11 +233,7 @@ int main(int argc, char** argv) {
             return rg::ray::runRaytraceCommand(rt);
         }
 #ifdef RETROGLASS_HAVE_BENCH
-        if (*bench) {
-            benchOptions.threads = g.threads;
-            benchOptions.referencePath = g.path == "reference";
-            return rg::bench::run(benchOptions, argv[0]);
-        }
+        if (*bench.subcommand) return bench.run(g.threads, g.path == "reference", argv[0]);
 #endif
     } catch (const rg::Error& e) {
         std::fprintf(stderr, "retroglass: %s\n", e.what());
