@@ -3,6 +3,7 @@
 // in demos/CMakeLists.txt).
 #include "core/error.h"
 #include "reproduction.h"
+#include "reproduce_impostors.h"
 #include "reproduce_pem.h"
 #include "reproduce_tir.h"
 
@@ -21,13 +22,8 @@ const std::vector<const Reproduction*>& reproductions() {
         "Heidrich, Lensch, Cohen & Seidel, \"Light Field Techniques for Reflections and "
         "Refractions\", EGWR 1999",
         "sgi-octane-mxe");
-    static const PlannedReproduction impostors(
-        "impostors",
-        "Dancsik & Minarik, \"Real-time multi-bounce many-object ray tracing with "
-        "distance-normal impostors\"",
-        "geforce8800");
     static const std::vector<const Reproduction*> all = {&pem::pemReproduction(), &hybrid,
-                                                         &lightfield, &impostors,
+                                                         &lightfield, &impostors::impostorReproduction(),
                                                          &tir::tirReproduction()};
     return all;
 }
