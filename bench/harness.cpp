@@ -26,7 +26,8 @@ struct OursOnly {
 };
 std::vector<OursOnly> gOursOnly;
 
-const char* const kPeers[] = {"llvmpipe", "embree", "raycore"};
+// plain_loop: a straightforward C++ loop doing the same work (lightfield's software lookup).
+const char* const kPeers[] = {"llvmpipe", "embree", "raycore", "plain_loop"};
 
 // Replaces the second '/'-separated field of `name` by `impl`; empty when there is none.
 std::string withImplementation(const std::string& name, const std::string& impl) {

@@ -1,21 +1,34 @@
 // The Mesa peer: trace records → OpenGL 1.3 fixed function on OSMesa (llvmpipe).
 //
 // What maps how (D3D7 → GL):
-//   pre-transformed vertices  glOrtho(0, w, h, 0, 0, −1) and (x, y, z, 1)/rhw, so that z
-//                              reaches the window unchanged and 1/w is interpolated (both
-//                              sample at pixel centres x + ½, docs/hardware.md)
-//   untransformed vertices    MODELVIEW = view·world, PROJECTION = S·P with S turning
-//                              Direct3D's clip z ∈ [0, w] into GL's [−w, w]
-//   viewport, scissor         y flipped (GL counts rows from the bottom); OSMESA_Y_UP = 0
-//                              makes the buffer's row 0 the top row, as ours
-//   clear                     scissored to viewport ∩ scissor (D3D clears the viewport)
+//   rows                      our row r is GL window row r (OSMESA_Y_UP = 1: buffer row 0 is
+//                              GL's row 0), so every rectangle (viewport, scissor, clears,
+//                              pixel transfers, read-backs) passes unchanged. Not only
+//                              convenient: llvmpipe breaks fill-rule ties by GL's rule with
+//                              y up, which in these rows is Direct3D's top-left rule, ours
+//                              (drawn the other way up, every horizontal edge through pixel
+//                              centres went to the other triangle: 2.3% of raster-fill-rule)
+//   untransformed vertices    MODELVIEW = view·world, PROJECTION = P with clip y negated
+//                              (the image is upside down in GL's terms, right way up in
+//                              ours); glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) keeps
+//                              Direct3D's clip z ∈ [0, w] and window z = minZ + z·(maxZ − minZ)
+//   pre-transformed vertices  (x, y, z, 1)/rhw through a power-of-two viewport and ortho
+//                              matrix (every step a power of two: window positions exact),
+//                              z unchanged, 1/w interpolated, both sampling pixel centres at
+//                              x + ½; scissored to viewport ∩ scissor as ours
+//   cull                      the negated y mirrors GL's winding: D3DCULL_CW culls GL_FRONT
+//                              with GL_CCW front
+//   clear                     scissored to viewport ∩ scissor, colour unmasked
 //   blend factors and ops     glBlendFunc / glBlendEquation; BOTHSRCALPHA as
 //                              (SRC_ALPHA, ONE_MINUS_SRC_ALPHA), BOTHINVSRCALPHA swapped
 //   stages                    GL_COMBINE (ARB_texture_env_combine, _dot3, crossbar)
 //   specular add              GL_COLOR_SUM with the secondary colour
 //   texgen                    TCI modes as REFLECTION_MAP, NORMAL_MAP, EYE_LINEAR
-//   drawPixels / copyPixels   glWindowPos + glPixelZoom(1, −1), texturing, blending and
-//                              tests off (our pixel transfer writes the framebuffer)
+//   drawPixels / copyPixels   glWindowPos at (x, y), rows going up in GL = down in ours;
+//                              texturing, blending and tests off (ours writes the colour
+//                              buffer directly)
+//   initial contents          glDrawPixels of the Framebuffer record's colour and depth, or
+//                              a clear to zero
 #include "conformance/mesa_player.h"
 #include "core/fd_io.h"
 #include "mesa_program_player.h"
@@ -249,21 +262,21 @@ struct GlPlayer {
         glColorMask(s.colorWriteMask & kWriteR, s.colorWriteMask & kWriteG, s.colorWriteMask & kWriteB,
                     s.colorWriteMask & kWriteA);
         s.scissorTest ? glEnable(GL_SCISSOR_TEST) : glDisable(GL_SCISSOR_TEST);
-        glScissor(scissor.x, h - scissor.y - scissor.height, scissor.width, scissor.height);
+        glScissor(scissor.x, scissor.y, scissor.width, scissor.height);
         glShadeModel(s.shade == ShadeMode::Flat ? GL_FLAT : GL_SMOOTH);
         // Direct3D's provoking vertex is the first of a list/strip triangle and the second
         // of a fan triangle: GL's first-vertex convention (ARB_provoking_vertex) exactly.
         glProvokingVertex(GL_FIRST_VERTEX_CONVENTION);
         s.specularEnable ? glEnable(GL_COLOR_SUM) : glDisable(GL_COLOR_SUM);
-        // Direct3D culls by the winding seen on screen (clockwise with y down is clockwise
-        // to the eye); GL's window y points up but the image is the same, so D3DCULL_CW
-        // culls GL's clockwise faces: the back faces when GL_CCW is front.
+        // Direct3D culls by the winding seen on screen with y down. GL's window rows are
+        // ours here, but its y points up, so a triangle clockwise on our screen is
+        // counter-clockwise to GL: D3DCULL_CW culls GL's front faces when GL_CCW is front.
         if (s.cull == CullMode::None) {
             glDisable(GL_CULL_FACE);
         } else {
             glEnable(GL_CULL_FACE);
             glFrontFace(GL_CCW);
-            glCullFace(s.cull == CullMode::CW ? GL_BACK : GL_FRONT);
+            glCullFace(s.cull == CullMode::CW ? GL_FRONT : GL_BACK);
         }
     }
 
@@ -366,21 +379,26 @@ struct GlPlayer {
 
     void applyTransform(VertexSpace space) {
         if (space == VertexSpace::Pretransformed) {
-            glViewport(0, 0, w, h);
+            // A square viewport of a power of two P ≥ the target: the ortho matrix scales by
+            // 2/P and the viewport by P/2, so a window position comes back bit for bit
+            // (glOrtho(0, w, …) with w = 30 moved vertices by an ulp, enough to flip ties).
+            int P = 1;
+            while (P < std::max(w, h)) P *= 2;
+            glViewport(0, 0, P, P);
             glDepthRange(0, 1);
+            const float k = 2.0f / float(P);
+            const glm::mat4 m(glm::vec4(k, 0, 0, 0), glm::vec4(0, k, 0, 0), glm::vec4(0, 0, 1, 0),
+                              glm::vec4(-1, -1, 0, 1));
             glMatrixMode(GL_PROJECTION);
-            glLoadIdentity();
-            // Both sample pixel (x, y) at its centre (x + ½, y + ½) (docs/hardware.md, "fill
-            // rule"), so window coordinates pass unchanged.
-            glOrtho(0, w, h, 0, 0, -1);
+            glLoadMatrixf(&m[0][0]);
             glMatrixMode(GL_MODELVIEW);
             glLoadIdentity();
         } else {
-            glViewport(viewport.x, h - viewport.y - viewport.height, viewport.width, viewport.height);
+            glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
             glDepthRange(viewport.minZ, viewport.maxZ);
+            // Clip y negated: our window row r is GL window row r (see the top of the file).
             glm::mat4 p = projection;
-            // Direct3D clip z ∈ [0, w] → GL's [−w, w]: z' = 2z − w (row 2 of the matrix).
-            for (int c = 0; c < 4; ++c) p[c][2] = 2.0f * p[c][2] - p[c][3];
+            for (int c = 0; c < 4; ++c) p[c][1] = -p[c][1];
             glMatrixMode(GL_PROJECTION);
             glLoadMatrixf(&p[0][0]);
             glMatrixMode(GL_MODELVIEW);
@@ -412,6 +430,21 @@ struct GlPlayer {
         applyFragmentState();
         applyTextureState();
         applyTransform(c.space);
+        if (c.space == VertexSpace::Pretransformed) {
+            // Ours draws pre-transformed triangles into viewport ∩ scissor too (docs/
+            // trace-format.md, "Pre-transformed vertices"); GL's viewport is the window
+            // here, so the scissor says it.
+            int64_t x0 = viewport.x, y0 = viewport.y, x1 = int64_t(viewport.x) + viewport.width,
+                    y1 = int64_t(viewport.y) + viewport.height;
+            if (state.scissorTest) {
+                x0 = std::max<int64_t>(x0, scissor.x); y0 = std::max<int64_t>(y0, scissor.y);
+                x1 = std::min<int64_t>(x1, int64_t(scissor.x) + scissor.width);
+                y1 = std::min<int64_t>(y1, int64_t(scissor.y) + scissor.height);
+            }
+            if (x1 <= x0 || y1 <= y0) return;
+            glEnable(GL_SCISSOR_TEST);
+            glScissor(GLint(x0), GLint(y0), GLsizei(x1 - x0), GLsizei(y1 - y0));
+        }
         // Texture coordinates are submitted per coordinate set; stage i reads the set its
         // texCoordIndex names, so route set k to unit i through the GL unit's own
         // coordinate when they differ.
@@ -444,7 +477,40 @@ struct GlPlayer {
         glActiveTexture(GL_TEXTURE0);
     }
 
+    // The framebuffer at the start (docs/trace-format.md, "Framebuffer"): the record's
+    // colour and depth, or all zero (a fresh OSMesa depth buffer is undefined).
+    void initialContents() {
+        pixelOpsState();
+        glDepthMask(GL_TRUE);
+        glClearColor(0, 0, 0, 0);
+        glClearDepth(0.0);
+        glClear(GL_COLOR_BUFFER_BIT | (trace.depth != DepthFormat::None ? GL_DEPTH_BUFFER_BIT : 0));
+        glWindowPos2i(0, 0);
+        glPixelZoom(1.0f, 1.0f);
+        if (!trace.initialColor.empty())
+            glDrawPixels(w, h, GL_RGBA, GL_UNSIGNED_BYTE, trace.initialColor.data());
+        if (!trace.initialDepth.empty()) {
+            // As 32-bit unsigned depth with the value's bits replicated, c/(2^32 − 1) is
+            // exactly d/(2^n − 1), so the buffer stores d itself.
+            const bool d16 = trace.depth == DepthFormat::D16;
+            std::vector<uint32_t> z(trace.initialDepth.size());
+            for (size_t i = 0; i < z.size(); ++i) {
+                const uint32_t d = trace.initialDepth[i];
+                z[i] = d16 ? (d << 16 | d) : (d << 8 | d >> 16);
+            }
+            glEnable(GL_DEPTH_TEST);
+            glDepthFunc(GL_ALWAYS);
+            glColorMask(0, 0, 0, 0);
+            glDrawPixels(w, h, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, z.data());
+            glColorMask(1, 1, 1, 1);
+            glDisable(GL_DEPTH_TEST);
+        }
+    }
+
     void play() {
+        auto clipControl = reinterpret_cast<PFNGLCLIPCONTROLPROC>(OSMesaGetProcAddress("glClipControl"));
+        if (!clipControl) throw Error("mesa replay: this Mesa has no glClipControl (ARB_clip_control)");
+        clipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
         GLint u = 1;
         glGetIntegerv(GL_MAX_TEXTURE_UNITS, &u);
         units = std::min<int>(u, tex::kMaxTexCoordSets);
@@ -452,6 +518,7 @@ struct GlPlayer {
         scissor = {0, 0, w, h};
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
         glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        initialContents();
         for (const TraceCommand& c : trace.commands) {
             switch (c.op) {
                 case TraceOp::State: state = c.state; break;
@@ -474,7 +541,7 @@ struct GlPlayer {
                     }
                     if (x1 <= x0 || y1 <= y0) break;
                     glEnable(GL_SCISSOR_TEST);
-                    glScissor(GLint(x0), GLint(h - y1), GLsizei(x1 - x0), GLsizei(y1 - y0));
+                    glScissor(GLint(x0), GLint(y0), GLsizei(x1 - x0), GLsizei(y1 - y0));
                     glColorMask(1, 1, 1, 1);
                     glDepthMask(GL_TRUE);
                     glClearColor(c.color.r / 255.0f, c.color.g / 255.0f, c.color.b / 255.0f, c.color.a / 255.0f);
@@ -486,22 +553,22 @@ struct GlPlayer {
                 case TraceOp::Draw: draw(c); break;
                 case TraceOp::DrawPixels:
                     pixelOpsState();
-                    glPixelZoom(1.0f, -1.0f);
-                    glWindowPos2i(c.rect.x, h - c.rect.y);
+                    glPixelZoom(1.0f, 1.0f);
+                    glWindowPos2i(c.rect.x, c.rect.y);
                     glDrawPixels(c.rect.width, c.rect.height, GL_RGBA, GL_UNSIGNED_BYTE, c.pixels.data());
                     break;
                 case TraceOp::CopyPixels:
                     pixelOpsState();
                     glPixelZoom(1.0f, 1.0f);
-                    glWindowPos2i(c.dstX, h - c.dstY - c.rect.height);
-                    glCopyPixels(c.rect.x, h - c.rect.y - c.rect.height, c.rect.width, c.rect.height, GL_COLOR);
+                    glWindowPos2i(c.dstX, c.dstY);
+                    glCopyPixels(c.rect.x, c.rect.y, c.rect.width, c.rect.height, GL_COLOR);
                     break;
                 case TraceOp::ReadPixels: {
                     // Not compared (the capture's hash is of our pixels), but read all the
                     // same: a read-back drains the pipeline, which `bench --trace` must
                     // charge to Mesa as the replay on ours is charged for it.
                     readBack.resize(size_t(c.rect.width) * size_t(c.rect.height) * 4);
-                    glReadPixels(c.rect.x, h - c.rect.y - c.rect.height, c.rect.width, c.rect.height, GL_RGBA,
+                    glReadPixels(c.rect.x, c.rect.y, c.rect.width, c.rect.height, GL_RGBA,
                                  GL_UNSIGNED_BYTE, readBack.data());
                     break;
                 }
@@ -525,15 +592,8 @@ void playOnCurrentContext(const Trace& trace) {
         detail::playProgramTrace(trace, nullptr);
         return;
     }
-    // Row 0 of the buffer is the top row, as ours; the initial contents go straight into
-    // OSMesa's colour buffer, as the replay on ours copies them into its framebuffer.
-    OSMesaPixelStore(OSMESA_Y_UP, 0);
-    GLint bw = 0, bh = 0, format = 0;
-    void* buffer = nullptr;
-    if (!trace.initialColor.empty() &&
-        OSMesaGetColorBuffer(OSMesaGetCurrentContext(), &bw, &bh, &format, &buffer) && buffer &&
-        bw == trace.width && bh == trace.height)
-        std::memcpy(buffer, trace.initialColor.data(), size_t(bw) * size_t(bh) * 4);
+    // Row 0 of the buffer is GL's window row 0, which the player makes our row 0 (the top).
+    OSMesaPixelStore(OSMESA_Y_UP, 1);
     GlPlayer p(trace);
     p.play();
     p.release();

@@ -36,8 +36,11 @@ constexpr std::array<Profile, 5> kProfiles = {{
     {ProfileId::SgiOctaneMxe, "sgi-octane-mxe", "SGI Octane MXE (IMPACT graphics), 1997",
      Api::OpenGL12, "OpenGL 1.2 + SGIX_pixel_texture, SGI_texture_color_table, SGIS_texture4D",
      "IMPACT: one texture unit, 4 MiB texture RAM (TRAM); pixel texture and 4D textures "
-     "as used at 15-20 fps by Heidrich et al. 1999",
-     1, 1, 1024, 0, 64, 256, 4 * MiB, true, 2048, 8, 4,
+     "as used at 15-20 fps by Heidrich et al. 1999; 16-bit index textures and 65,536-entry "
+     "texture colour tables for their 2^16-entry VQ codebook (§5)",
+     // colorTableSize 65,536: the 2^16-entry codebook with 2-byte indices that Heidrich
+     // et al. 1999 §5 render through SGI_texture_color_table (with I16 index textures).
+     1, 1, 1024, 0, 64, 65536, 4 * MiB, true, 2048, 8, 4,
      bit(Feature::TextureEnvCombine) | bit(Feature::PixelTexture) |
          bit(Feature::TextureColorTable) | bit(Feature::Texture4D) | bit(Feature::Texture3D) |
          bit(Feature::ProjectedTexture) | bit(Feature::BlendMinMax) |

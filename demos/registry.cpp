@@ -3,7 +3,9 @@
 // in demos/CMakeLists.txt).
 #include "core/error.h"
 #include "reproduction.h"
+#include "reproduce_hybrid.h"
 #include "reproduce_impostors.h"
+#include "reproduce_lightfield.h"
 #include "reproduce_pem.h"
 #include "reproduce_tir.h"
 
@@ -12,18 +14,9 @@ namespace rg::demos {
 const std::vector<const Reproduction*>& reproductions() {
     // In the order the project builds them. A paper not built yet is listed by name, paper
     // and profile; `retroglass reproduce` and the gallery say so.
-    static const PlannedReproduction hybrid(
-        "hybrid",
-        "Hakura & Snyder, \"Realistic Reflections and Refractions on Graphics Hardware With "
-        "Hybrid Rendering and Layered Environment Maps\", EGWR 2001",
-        "geforce256");
-    static const PlannedReproduction lightfield(
-        "lightfield",
-        "Heidrich, Lensch, Cohen & Seidel, \"Light Field Techniques for Reflections and "
-        "Refractions\", EGWR 1999",
-        "sgi-octane-mxe");
-    static const std::vector<const Reproduction*> all = {&pem::pemReproduction(), &hybrid,
-                                                         &lightfield, &impostors::impostorReproduction(),
+    static const std::vector<const Reproduction*> all = {&pem::pemReproduction(), &hybrid::hybridReproduction(),
+                                                         &lightfield::lightfieldReproduction(),
+                                                         &impostors::impostorReproduction(),
                                                          &tir::tirReproduction()};
     return all;
 }

@@ -453,7 +453,17 @@ void Device::setThreads(int threads) {
     impl_->makeArena();
 }
 
-void Device::setState(const PipelineState& state) { impl_->state = state; }
+void Device::setState(const PipelineState& state) {
+    // A boolean state is 0 or 1: the trace format has no other value (docs/trace-format.md,
+    // "State"), so the device takes none (the rest is validated at draw time).
+    const std::pair<uint8_t, const char*> flags[] = {
+        {state.depthTest, "depthTest"}, {state.depthWrite, "depthWrite"}, {state.alphaTest, "alphaTest"},
+        {state.blend, "blend"}, {state.scissorTest, "scissorTest"}, {state.specularEnable, "specularEnable"},
+        {state.perspectiveColor, "perspectiveColor"}};
+    for (const auto& [v, name] : flags)
+        if (v > 1) throw InvalidState(std::string(name) + " = " + std::to_string(v) + " is not 0 or 1");
+    impl_->state = state;
+}
 const PipelineState& Device::state() const { return impl_->state; }
 void Device::setTransforms(const glm::mat4& world, const glm::mat4& view,
                            const glm::mat4& projection) {

@@ -104,18 +104,45 @@ void Device::drawPixels(int x, int y, int width, int height, std::span<const Rgb
         throw InvalidState("drawPixels: " + std::to_string(pixels.size()) + " pixels for a " +
                            std::to_string(width) + "x" + std::to_string(height) + " rectangle");
     Framebuffer& fb = framebuffer();
-    std::vector<Rgba8> row(static_cast<size_t>(width));
-    for (int j = 0; j < height; ++j) {
-        const int64_t wy = int64_t(y) + j;
-        if (wy < 0 || wy >= fb.height()) continue;
-        std::copy(pixels.begin() + size_t(j) * width, pixels.begin() + size_t(j + 1) * width,
-                  row.begin());
-        textureUnits().applyPixelTransfer(row);
-        for (int i = 0; i < width; ++i) {
-            const int64_t wx = int64_t(x) + i;
-            if (wx >= 0 && wx < fb.width()) fb.pixel(int(wx), int(wy)) = row[size_t(i)];
+    const tex::TextureUnits& units = textureUnits();
+    if (units.pixelTexture().enabled) units.validatePixelTexture(profile());
+    const Path path = impl_->options.path;
+    // Rows of the target the rectangle meets; each row is transferred and written alone.
+    const int64_t j0 = std::max<int64_t>(0, -int64_t(y)), j1 = std::min<int64_t>(height, int64_t(fb.height()) - y);
+    const int64_t i0 = std::max<int64_t>(0, -int64_t(x)), i1 = std::min<int64_t>(width, int64_t(fb.width()) - x);
+    if (j0 >= j1 || i0 >= i1) return;
+    auto transferRows = [&](int64_t ja, int64_t jb) {
+        std::vector<Rgba8> row(static_cast<size_t>(i1 - i0));
+        for (int64_t j = ja; j < jb; ++j) {
+            // Pixels outside the target are discarded before the transfer: no fragment, no
+            // lookup (GL clips draw-pixels fragments to the window).
+            std::copy(pixels.begin() + size_t(j) * width + i0, pixels.begin() + size_t(j) * width + i1,
+                      row.begin());
+            units.applyPixelTransfer(row, path);
+            std::copy(row.begin(), row.end(), &fb.pixel(int(x + i0), int(y + j)));
         }
+    };
+    // The reference path: one thread, the rows in order. The fast path shares the rows out
+    // (each written by one thread; every pixel's arithmetic is its own, so the bytes do not
+    // depend on the thread count: PixelTransfer.FastPathAnyThreadCountEqualsReference).
+    constexpr int64_t kParallelPixels = 1 << 14;
+    tbb::task_arena& arena = *impl_->arena;
+    if (path == Path::Reference || arena.max_concurrency() == 1 ||
+        (j1 - j0) * (i1 - i0) < kParallelPixels) {
+        transferRows(j0, j1);
+        return;
     }
+    [[maybe_unused]] int forkJoin = 0;
+    RG_TSAN_RELEASE(&forkJoin);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int64_t>(j0, j1, 8),
+                          [&](const tbb::blocked_range<int64_t>& r) {
+                              RG_TSAN_ACQUIRE(&forkJoin);
+                              transferRows(r.begin(), r.end());
+                              RG_TSAN_RELEASE(&forkJoin);
+                          });
+    });
+    RG_TSAN_ACQUIRE(&forkJoin);
 }
 
 // glCopyPixels: the source is read whole first, so overlapping rectangles copy as if
@@ -148,8 +175,8 @@ std::vector<Rgba8> Device::readPixels(int x, int y, int width, int height) {
                            std::to_string(y) + ") " + std::to_string(width) + "x" +
                            std::to_string(height) + " lies outside the render target");
     std::vector<Rgba8> out(size_t(width) * size_t(height));
-    for (int j = 0; j < height; ++j)
-        for (int i = 0; i < width; ++i) out[size_t(j) * width + i] = fb.pixel(x + i, y + j);
+    for (int j = 0; j < height && width > 0; ++j)
+        std::copy_n(&fb.pixel(x, y + j), width, out.begin() + size_t(j) * width);
     impl_->counters.bytesReadBack += out.size() * sizeof(Rgba8);
     if (impl_->recorder) impl_->recorder->readPixels(x, y, width, height, out);
     return out;

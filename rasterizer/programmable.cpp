@@ -239,6 +239,19 @@ detail::NearestFloat2D detail::nearestFloat2D(const tex::Texture* texture, const
     return n;
 }
 
+detail::LinearFloatCube detail::linearFloatCube(const tex::Texture* texture, const tex::SamplerState& sampler) {
+    LinearFloatCube c;
+    if (!(texture && texture->isFloat() && !texture->singleChannel() &&
+          texture->desc().target == tex::TextureTarget::CubeMap && sampler.magFilter == tex::FilterMode::Linear &&
+          sampler.minFilter == tex::FilterMode::Linear && sampler.mipFilter == tex::MipMode::None))
+        return c;
+    const int base = std::clamp(sampler.baseLevel, 0, texture->levels() - 1);
+    c.data = texture->dataF(base, 0);
+    c.size = texture->levelSize(base)[0];
+    c.faceTexels = int32_t(texture->dataF(base, 1) - texture->dataF(base, 0));
+    return c;
+}
+
 // ---- output merger ------------------------------------------------------------------------
 
 namespace detail {
@@ -499,6 +512,18 @@ int ProgrammableDevice::targetHeight() const { return impl_->height; }
 void ProgrammableDevice::setState(const ProgramState& state) {
     if (!(state.pointSize > 0.0f) || !(state.pointSize <= 8192.0f))
         throw InvalidState("point size " + std::to_string(state.pointSize) + " outside (0, 8192]");
+    // Booleans are 0 or 1, as the trace format writes them (docs/trace-format.md).
+    if (state.depthTest > 1 || state.depthWrite > 1)
+        throw InvalidState("depthTest/depthWrite other than 0 or 1");
+    for (size_t k = 0; k < state.blend.size(); ++k)
+        if (state.blend[k].enable > 1)
+            throw InvalidState("render target " + std::to_string(k) + ": blend enable other than 0 or 1");
+    // BOTHSRCALPHA and BOTHINVSRCALPHA are source factors that set the destination's too
+    // (docs/hardware.md, "Blending"); as a destination factor they mean nothing.
+    for (size_t k = 0; k < state.blend.size(); ++k)
+        if (state.blend[k].dst == BlendFactor::BothSrcAlpha || state.blend[k].dst == BlendFactor::BothInvSrcAlpha)
+            throw InvalidState("render target " + std::to_string(k) + ": BOTHSRCALPHA / BOTHINVSRCALPHA as the "
+                               "destination blend factor (they are source factors that set the destination's)");
     impl_->state = state;
 }
 const ProgramState& ProgrammableDevice::state() const { return impl_->state; }
@@ -528,7 +553,8 @@ void ProgrammableDevice::setTexture(int unit, std::shared_ptr<const tex::Texture
                            " units of profile '" + std::string(impl_->profile.name) + "'");
     if (texture && !texture->complete())
         throw InvalidState("texture bound to unit " + std::to_string(unit) + " has levels never uploaded");
-    const detail::BoundUnit b{texture.get(), sampler, detail::nearestFloat2D(texture.get(), sampler)};
+    const detail::BoundUnit b{texture.get(), sampler, detail::nearestFloat2D(texture.get(), sampler),
+                              detail::linearFloatCube(texture.get(), sampler)};
     impl_->units[size_t(unit)] = b;
     impl_->textures[size_t(unit)] = std::move(texture);
 }

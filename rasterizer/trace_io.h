@@ -62,6 +62,8 @@ struct ByteReader {
 // Bytes of one level of one face in the packed layout of `format`.
 uint64_t traceLevelBytes(const tex::TextureDesc& desc, int level);
 int traceFaces(const tex::TextureDesc& desc);
+// The dimensions a texture target uses: 1D 1, 2D and cube maps 2, 3D 3, 4D 4.
+int traceDims(const tex::TextureDesc& desc);
 // One level of one face packed in the format's layout, checked to expand back to the
 // texture's texels (rasterizer/trace_recorder.cpp).
 std::vector<uint8_t> tracePackLevel(const tex::Texture& t, int level, int face);

@@ -12,12 +12,24 @@ namespace rg::raster {
 ReplayResult replayTrace(const Trace& trace, const ReplayOptions& options,
                          std::shared_ptr<TraceRecorder> recorder) {
     if (trace.programmable) return detail::replayProgrammableTrace(trace, options, recorder);
-    const Profile& profile = profileByName(trace.profile);
+    // A copy: the explanation replays of `retroglass conform` change its subpixel bits.
+    Profile profile = profileByName(trace.profile);
+    if (options.subpixelBits > 0) {
+        if (options.subpixelBits > 8)
+            throw TraceError("replay: " + std::to_string(options.subpixelBits) +
+                             " subpixel bits (at most 8: the integer widths of docs/hardware.md)");
+        profile.subpixelBits = options.subpixelBits;
+    }
     Device dev(profile, trace.width, trace.height, trace.depth, {options.path, options.threads});
     if (!trace.initialColor.empty())
         std::copy(trace.initialColor.begin(), trace.initialColor.end(), dev.framebuffer().color().begin());
+    // Without a Framebuffer record the capture started all zero, depth included
+    // (docs/trace-format.md, "Framebuffer"): the recorder leaves the record out only then.
+    // A fresh Device starts its depth at the far value, so it is zeroed here, not left.
     if (!trace.initialDepth.empty())
         std::copy(trace.initialDepth.begin(), trace.initialDepth.end(), dev.framebuffer().depth().begin());
+    else
+        std::fill(dev.framebuffer().depth().begin(), dev.framebuffer().depth().end(), 0u);
     if (options.stopAfterPass >= trace.passCount())
         throw TraceError("--pass " + std::to_string(options.stopAfterPass) + ": the trace has " +
                          std::to_string(trace.passCount()) + " passes (0.." +
@@ -40,6 +52,7 @@ ReplayResult replayTrace(const Trace& trace, const ReplayOptions& options,
         return tx;
     };
 
+    if (options.fragmentObserver) dev.setFragmentObserver(options.fragmentObserver);
     if (recorder) dev.setRecorder(recorder);
     ReplayResult result;
     tex::TextureUnits& tu = dev.textureUnits();

@@ -35,6 +35,33 @@ void readRect(ByteReader& r, Rect& rect) {
     rect.x = r.i32(); rect.y = r.i32(); rect.width = r.i32(); rect.height = r.i32();
 }
 
+// A boolean field is 0 or 1 (docs/trace-format.md, "Encoding"): 2…255 mean nothing.
+uint8_t readBool(ByteReader& r, const std::string& where, const char* what) {
+    const uint8_t v = r.u8();
+    if (v > 1) throw TraceError(where + ": " + what + " " + std::to_string(v) + " is not a boolean (0 or 1)");
+    return v;
+}
+
+// A rectangle of a version-1 pixel command inside the w×h framebuffer (what the device
+// refuses otherwise): sizes ≥ 0, every pixel inside.
+void checkInside(const Rect& rect, int w, int h, const std::string& where, const char* what) {
+    if (rect.width < 0 || rect.height < 0 || rect.x < 0 || rect.y < 0 || int64_t(rect.x) + rect.width > w ||
+        int64_t(rect.y) + rect.height > h)
+        throw TraceError(where + ": " + what + " (" + std::to_string(rect.x) + ", " + std::to_string(rect.y) + ") " +
+                         std::to_string(rect.width) + "x" + std::to_string(rect.height) + " is not inside the " +
+                         std::to_string(w) + "x" + std::to_string(h) + " framebuffer");
+}
+
+// A D3DTA_ argument: a source 0…4 (Diffuse, Current, Texture, TFactor, Specular) with the
+// Complement (0x10) and AlphaReplicate (0x20) flags; nothing else.
+uint8_t readStageArg(ByteReader& r, const std::string& where) {
+    const uint8_t a = r.u8();
+    if ((a & tex::arg::SourceMask) > tex::arg::Specular ||
+        (a & ~(tex::arg::SourceMask | tex::arg::Complement | tex::arg::AlphaReplicate)) != 0)
+        throw TraceError(where + ": stage argument " + std::to_string(a) + " is not a D3DTA_ value");
+    return a;
+}
+
 void readSampler(ByteReader& r, tex::SamplerState& s) {
     for (auto& a : s.address) a = enumValue(r.u8(), tex::AddressMode(5), "address mode");
     s.magFilter = enumValue(r.u8(), tex::FilterMode(2), "mag filter");
@@ -167,16 +194,19 @@ void readRenderTargets(ByteReader& r, Trace& trace, TraceCommand& c, const std::
 
 void readProgramState(ByteReader& r, ProgramState& s, const std::string& where) {
     s.cull = enumValue(r.u8(), CullMode(3), "cull mode");
-    s.depthTest = r.u8();
-    s.depthWrite = r.u8();
+    s.depthTest = readBool(r, where, "depthTest");
+    s.depthWrite = readBool(r, where, "depthWrite");
     s.depthFunc = enumValue(r.u8(), CompareFunc(8), "depth func");
     s.pointSize = r.f32();
     if (!(s.pointSize > 0.0f) || !(s.pointSize <= 8192.0f))
         throw TraceError(where + ": point size outside (0, 8192]");
     for (TargetBlend& b : s.blend) {
-        b.enable = r.u8();
+        b.enable = readBool(r, where, "blend enable");
         b.src = enumValue(r.u8(), BlendFactor(13), "source blend factor");
         b.dst = enumValue(r.u8(), BlendFactor(13), "destination blend factor");
+        // Source factors that set the destination's too: no meaning as a destination.
+        if (b.dst == BlendFactor::BothSrcAlpha || b.dst == BlendFactor::BothInvSrcAlpha)
+            throw TraceError(where + ": BOTHSRCALPHA / BOTHINVSRCALPHA as a destination blend factor");
         b.op = enumValue(r.u8(), BlendOp(5), "blend op");
         b.writeMask = r.u8();
         if (b.writeMask > kWriteRGBA) throw TraceError(where + ": colour write mask out of range");
@@ -243,6 +273,7 @@ Trace readTrace(std::span<const uint8_t> bytes) {
         throw TraceError("trace version " + std::to_string(trace.version) + " (this reader knows 1 and " +
                          std::to_string(kTraceVersion) + ")");
     bool haveDevice = false, ended = false, hashes = false;
+    uint64_t depthMax = 0;  // the Device record's depth format's largest value
     size_t index = 0;
     while (!ended) {
         if (file.remaining() == 0) throw TraceError("trace is truncated (no End record)");
@@ -251,7 +282,8 @@ Trace readTrace(std::span<const uint8_t> bytes) {
         file.need(len);
         ByteReader r{bytes.subspan(file.pos, len), 0, "trace record"};
         file.pos += len;
-        const std::string where = "record " + std::to_string(index++);
+        const size_t number = index++;
+        const std::string where = "record " + std::to_string(number);
         // Which kinds may appear: those of the trace's version, and of its device.
         const TraceOp kind = TraceOp(op);
         if (!fixedFunctionRecord(kind) && !programmableRecord(kind))
@@ -280,15 +312,28 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                 if (trace.width <= 0 || trace.height <= 0 || trace.width > 16384 || trace.height > 16384)
                     throw TraceError(where + ": framebuffer size out of range");
                 r.done();
+                try {
+                    (void)profileByName(trace.profile);
+                } catch (const Error&) {
+                    throw TraceError(where + ": unknown profile '" + trace.profile + "'");
+                }
+                depthMax = trace.depth == DepthFormat::D16 ? 0xffffu : trace.depth == DepthFormat::D24 ? 0xffffffu : 0u;
                 continue;
             }
             case TraceOp::Framebuffer: {
+                // Only right after the Device record: the contents the first command finds.
+                if (number != 1)
+                    throw TraceError(where + ": a Framebuffer record may only be the second record");
                 const size_t n = size_t(trace.width) * size_t(trace.height);
                 trace.initialColor.resize(n);
                 r.raw(trace.initialColor.data(), n * 4);
                 if (trace.depth != DepthFormat::None) {
                     trace.initialDepth.resize(n);
                     r.raw(trace.initialDepth.data(), n * 4);
+                    for (uint32_t z : trace.initialDepth)
+                        if (z > depthMax)
+                            throw TraceError(where + ": depth value " + std::to_string(z) + " above the " +
+                                             std::to_string(depthMax) + " of the depth format");
                 }
                 r.done();
                 continue;
@@ -305,6 +350,22 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                 if (t.desc.levels < 1 || t.desc.levels > 16)
                     throw TraceError(where + ": texture level count out of range");
                 if (t.id == 0) throw TraceError(where + ": texture id 0 is reserved");
+                {
+                    // Dimensions the target does not use are 1; levels at most the full
+                    // chain of the used ones; cube faces square (what TextureMemory refuses).
+                    const std::array<int, 4> ext{t.desc.width, t.desc.height, t.desc.depth, t.desc.size4};
+                    const int dims = detail::traceDims(t.desc);
+                    for (int d = dims; d < 4; ++d)
+                        if (ext[size_t(d)] != 1)
+                            throw TraceError(where + ": texture extent " + std::to_string(ext[size_t(d)]) +
+                                             " in dimension " + std::to_string(d) + ", which its target does not use "
+                                             "(must be 1)");
+                    if (t.desc.levels > tex::fullChainLevels(t.desc))
+                        throw TraceError(where + ": " + std::to_string(t.desc.levels) + " levels, more than the full "
+                                         "chain's " + std::to_string(tex::fullChainLevels(t.desc)));
+                    if (t.desc.target == tex::TextureTarget::CubeMap && t.desc.width != t.desc.height)
+                        throw TraceError(where + ": cube map faces are square");
+                }
                 const int faces = detail::traceFaces(t.desc);
                 for (int l = 0; l < t.desc.levels; ++l) {
                     // Bounded per dimension by 2^15 and checked against the bytes left
@@ -392,40 +453,65 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                 PipelineState& s = c.state;
                 s.cull = enumValue(r.u8(), CullMode(3), "cull mode");
                 s.shade = enumValue(r.u8(), ShadeMode(2), "shade mode");
-                s.depthTest = r.u8();
-                s.depthWrite = r.u8();
+                s.depthTest = readBool(r, where, "depthTest");
+                s.depthWrite = readBool(r, where, "depthWrite");
                 s.depthFunc = enumValue(r.u8(), CompareFunc(8), "depth func");
-                s.alphaTest = r.u8();
+                s.alphaTest = readBool(r, where, "alphaTest");
                 s.alphaFunc = enumValue(r.u8(), CompareFunc(8), "alpha func");
                 s.alphaRef = r.u8();
-                s.blend = r.u8();
+                s.blend = readBool(r, where, "blend");
                 s.srcBlend = enumValue(r.u8(), BlendFactor(13), "source blend factor");
                 s.dstBlend = enumValue(r.u8(), BlendFactor(13), "destination blend factor");
                 s.blendOp = enumValue(r.u8(), BlendOp(5), "blend op");
                 s.colorWriteMask = r.u8();
-                s.scissorTest = r.u8();
-                s.specularEnable = r.u8();
-                s.perspectiveColor = r.u8();
+                if (s.colorWriteMask > kWriteRGBA)
+                    throw TraceError(where + ": colour write mask " + std::to_string(s.colorWriteMask) +
+                                     " has bits beyond RGBA");
+                s.scissorTest = readBool(r, where, "scissorTest");
+                s.specularEnable = readBool(r, where, "specularEnable");
+                s.perspectiveColor = readBool(r, where, "perspectiveColor");
                 break;
             }
             case TraceOp::Transforms:
                 r.raw(&c.world, 64); r.raw(&c.view, 64); r.raw(&c.projection, 64);
                 break;
-            case TraceOp::Viewport:
+            case TraceOp::Viewport: {
                 c.viewport.x = r.i32(); c.viewport.y = r.i32();
                 c.viewport.width = r.i32(); c.viewport.height = r.i32();
                 c.viewport.minZ = r.f32(); c.viewport.maxZ = r.f32();
+                const Viewport& v = c.viewport;
+                if (v.width <= 0 || v.height <= 0)
+                    throw TraceError(where + ": viewport " + std::to_string(v.width) + "x" + std::to_string(v.height) +
+                                     " is empty");
+                // The programmable device's target is known only at the draw; a Device's
+                // framebuffer from the first record.
+                if (!trace.programmable)
+                    checkInside({v.x, v.y, v.width, v.height}, trace.width, trace.height, where, "viewport");
+                if (!(v.minZ >= 0.0f && v.minZ <= 1.0f && v.maxZ >= 0.0f && v.maxZ <= 1.0f))
+                    throw TraceError(where + ": viewport depth range outside [0, 1]");
                 break;
-            case TraceOp::Scissor: readRect(r, c.rect); break;
+            }
+            case TraceOp::Scissor:
+                readRect(r, c.rect);
+                if (c.rect.width < 0 || c.rect.height < 0) throw TraceError(where + ": scissor size is negative");
+                break;
             case TraceOp::Stage: {
                 c.unit = checkedIndex(r.u8(), tex::kMaxStages, "stage");
                 tex::StageState& s = c.stage;
                 s.colorOp = enumValue(r.u8(), tex::TextureOp::Count, "colour op");
-                s.colorArg1 = r.u8(); s.colorArg2 = r.u8(); s.colorArg0 = r.u8();
+                s.colorArg1 = readStageArg(r, where);
+                s.colorArg2 = readStageArg(r, where);
+                s.colorArg0 = readStageArg(r, where);
                 s.alphaOp = enumValue(r.u8(), tex::TextureOp::Count, "alpha op");
-                s.alphaArg1 = r.u8(); s.alphaArg2 = r.u8(); s.alphaArg0 = r.u8();
-                s.texCoordIndex = r.u8();
-                s.colorScaleShift = r.u8(); s.alphaScaleShift = r.u8();
+                if (tex::colourOnlyOp(s.alphaOp))
+                    throw TraceError(where + ": D3DTOP_" + std::string(tex::textureOpName(s.alphaOp)) +
+                                     " has no meaning as an alpha op");
+                s.alphaArg1 = readStageArg(r, where);
+                s.alphaArg2 = readStageArg(r, where);
+                s.alphaArg0 = readStageArg(r, where);
+                s.texCoordIndex = uint8_t(checkedIndex(r.u8(), tex::kMaxTexCoordSets, "texture coordinate index"));
+                s.colorScaleShift = uint8_t(checkedIndex(r.u8(), 3, "colour scale shift"));
+                s.alphaScaleShift = uint8_t(checkedIndex(r.u8(), 3, "alpha scale shift"));
                 break;
             }
             case TraceOp::Sampler:
@@ -437,14 +523,14 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                 c.unit = checkedIndex(r.u8(), tex::kMaxTexCoordSets, "coordinate set");
                 c.texGen.mode = enumValue(r.u8(), tex::TexGenMode(9), "texgen mode");
                 r.raw(&c.texGen.planes, sizeof c.texGen.planes);
-                c.texGen.matrixEnabled = r.u8() != 0;
+                c.texGen.matrixEnabled = readBool(r, where, "matrixEnabled") != 0;
                 r.raw(&c.texGen.matrix, sizeof c.texGen.matrix);
-                c.texGen.projected = r.u8() != 0;
+                c.texGen.projected = readBool(r, where, "projected") != 0;
                 break;
             }
             case TraceOp::ColorTable: {
                 c.unit = checkedIndex(r.u8(), tex::kMaxStages, "stage");
-                if (r.u8()) {
+                if (readBool(r, where, "colour table present")) {
                     auto t = std::make_shared<tex::ColorTable>();
                     t->format = enumValue(r.u8(), tex::BaseFormat(6), "colour table format");
                     const uint32_t n = r.u32();
@@ -457,7 +543,7 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                 break;
             }
             case TraceOp::PixelTexture:
-                c.pixelTexture.enabled = r.u8() != 0;
+                c.pixelTexture.enabled = readBool(r, where, "pixel texture enabled") != 0;
                 c.pixelTexture.mode = enumValue(r.u8(), tex::PixelTexGenMode(2), "pixel texgen mode");
                 c.pixelTexture.stage = uint8_t(checkedIndex(r.u8(), tex::kMaxStages, "stage"));
                 break;
@@ -482,6 +568,8 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                 c.clearDepth = flags & 2;
                 c.color = r.rgba();
                 c.depthValue = r.f32();
+                if (c.clearDepth && !(c.depthValue >= 0.0f && c.depthValue <= 1.0f))
+                    throw TraceError(where + ": depth clear value outside [0, 1]");
                 break;
             }
             case TraceOp::Draw: {
@@ -502,11 +590,18 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                 }
                 c.indices.resize(ni);
                 r.raw(c.indices.data(), size_t(ni) * 4);
+                for (uint32_t i : c.indices)
+                    if (i >= nv)
+                        throw TraceError(where + ": index " + std::to_string(i) + " past the " + std::to_string(nv) +
+                                         " vertices");
                 break;
             }
             case TraceOp::DrawPixels: {
                 readRect(r, c.rect);
                 const uint32_t n = r.u32();
+                if (c.rect.width < 0 || c.rect.height < 0 || uint64_t(n) != uint64_t(c.rect.width) * uint64_t(c.rect.height))
+                    throw TraceError(where + ": " + std::to_string(n) + " pixels for a " + std::to_string(c.rect.width) +
+                                     "x" + std::to_string(c.rect.height) + " rectangle");
                 r.need(uint64_t(n) * 4);
                 c.pixels.resize(n);
                 r.raw(c.pixels.data(), size_t(n) * 4);
@@ -516,10 +611,12 @@ Trace readTrace(std::span<const uint8_t> bytes) {
                 readRect(r, c.rect);
                 c.dstX = r.i32();
                 c.dstY = r.i32();
+                checkInside(c.rect, trace.width, trace.height, where, "copyPixels source");
                 break;
             case TraceOp::ReadPixels:
                 readRect(r, c.rect);
                 c.textureId = r.u64();
+                checkInside(c.rect, trace.width, trace.height, where, "readPixels rectangle");
                 break;
             case TraceOp::End:
                 ended = true;

@@ -23,15 +23,19 @@ int traceFaces(const tex::TextureDesc& desc) {
     return desc.target == tex::TextureTarget::CubeMap ? 6 : 1;
 }
 
-uint64_t traceLevelBytes(const tex::TextureDesc& desc, int level) {
-    int dims = 2;
+int traceDims(const tex::TextureDesc& desc) {
     switch (desc.target) {
-        case tex::TextureTarget::Texture1D: dims = 1; break;
-        case tex::TextureTarget::Texture2D: dims = 2; break;
-        case tex::TextureTarget::Texture3D: dims = 3; break;
-        case tex::TextureTarget::CubeMap: dims = 2; break;
-        case tex::TextureTarget::Texture4D: dims = 4; break;
+        case tex::TextureTarget::Texture1D: return 1;
+        case tex::TextureTarget::Texture2D: return 2;
+        case tex::TextureTarget::Texture3D: return 3;
+        case tex::TextureTarget::CubeMap: return 2;
+        case tex::TextureTarget::Texture4D: return 4;
     }
+    return 2;
+}
+
+uint64_t traceLevelBytes(const tex::TextureDesc& desc, int level) {
+    const int dims = traceDims(desc);
     const std::array<int, 4> base{desc.width, desc.height, desc.depth, desc.size4};
     uint64_t n = uint64_t(tex::formatInfo(desc.format).bytesPerTexel);
     for (int d = 0; d < dims; ++d) n *= uint64_t(std::max(1, base[size_t(d)] >> level));
@@ -123,6 +127,11 @@ std::vector<uint8_t> detail::tracePackLevel(const tex::Texture& t, int level, in
                             throw Error("trace capture: a " +
                                         std::string(t.format().name) +
                                         " texel does not round-trip through its packed form");
+                    } else if (t.is16()) {
+                        // I16 keeps its 16-bit value beside the 8-bit expansion.
+                        const uint16_t v = t.texel16(level, face, x, y, z, w);
+                        p[0] = uint8_t(v & 0xff);
+                        p[1] = uint8_t(v >> 8);
                     } else {
                         const Rgba8 c = t.texel8(level, face, x, y, z, w);
                         packTexel8(d.format, c, p);
@@ -144,7 +153,15 @@ uint64_t detail::traceContentHash(const tex::Texture& t) {
         const auto& s = t.levelSize(l);
         const size_t count = size_t(s[0]) * s[1] * s[2] * s[3];
         for (int f = 0; f < t.faces(); ++f) {
-            if (!t.isFloat()) {
+            if (t.is16()) {
+                for (int w = 0; w < s[3]; ++w)
+                    for (int z = 0; z < s[2]; ++z)
+                        for (int y = 0; y < s[1]; ++y)
+                            for (int x = 0; x < s[0]; ++x) {
+                                const uint16_t v = t.texel16(l, f, x, y, z, w);
+                                h = traceHash64(&v, sizeof v, h);
+                            }
+            } else if (!t.isFloat()) {
                 h = traceHash64(t.data8(l, f), count * sizeof(Rgba8), h);
             } else {
                 for (int w = 0; w < s[3]; ++w)

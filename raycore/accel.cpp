@@ -16,6 +16,7 @@
 #include <mutex>
 
 #include "core/error.h"
+#include "accel_counting.h"
 
 namespace rg::ray {
 
@@ -125,9 +126,10 @@ RTCDevice embreeDevice() {
     return device;
 }
 
-Accel::Accel(const Scene& scene) : scene_(scene) {
+Accel::Accel(const Scene& scene, AccelOptions options) : scene_(scene) {
     validateScene(scene);
     RTCDevice device = embreeDevice();
+    if (options.countTriangleTests) counter_ = detail::newTriangleTestCounter();
     rtcScene_ = rtcNewScene(device);
     rtcSetSceneFlags(rtcScene_, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);
@@ -141,6 +143,15 @@ Accel::Accel(const Scene& scene) : scene_(scene) {
         Bounds b = computeBounds(m);
         all.lo = glm::min(all.lo, b.lo);
         all.hi = glm::max(all.hi, b.hi);
+        if (counter_) {
+            // The counting twin: the same triangles as a user geometry (accel_counting.cpp).
+            countingMeshes_.push_back(
+                std::make_unique<detail::CountingMesh>(m.positions, m.indices, counter_.get()));
+            RTCGeometry g = detail::newCountingGeometry(device, *countingMeshes_.back());
+            rtcCommitGeometry(g);
+            rtcAttachGeometryByID(rtcScene_, g, oi);
+            rtcReleaseGeometry(g);
+        } else {
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
             g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.positions.size()));
@@ -156,6 +167,7 @@ Accel::Accel(const Scene& scene) : scene_(scene) {
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(rtcScene_, g, oi);
         rtcReleaseGeometry(g);
+        }
         Geometry& geo = geometries_[oi];
         if (records_.size() + m.triangleCount() > size_t(UINT32_MAX))
             throw Error("embree: the scene has more than 2^32 - 1 triangles");
@@ -553,6 +565,9 @@ glm::vec3 Accel::offsetOrigin(const SurfacePoint& s, glm::vec3 dir) const {
 }
 
 std::vector<Hit> Accel::allTriangleHits(const Ray& ray) const {
+    if (counter_)
+        throw Error("embree: the counting twin of a scene answers closest-hit and occlusion "
+                    "queries only (allIntersections needs the watertight triangle kernels)");
     std::vector<Hit> hits;
     CollectContext c;
     rtcInitIntersectContext(&c.context);

@@ -46,6 +46,18 @@ Mesh Scene::worldMesh(uint32_t object) const {
     return m;
 }
 
+Scene subScene(const Scene& scene, const std::vector<uint32_t>& keep) {
+    if (keep.empty()) throw Error("scene '" + scene.name + "': a sub-scene of no objects");
+    Scene out = scene;
+    out.objects.clear();
+    for (uint32_t i : keep) {
+        if (i >= scene.objects.size())
+            throw Error("scene '" + scene.name + "': no object " + std::to_string(i));
+        out.objects.push_back(scene.objects[i]);
+    }
+    return out;
+}
+
 std::vector<std::string> validateScene(const Scene& scene, const std::string& label) {
     std::vector<std::string> warnings;
     const std::string where = !label.empty()              ? label

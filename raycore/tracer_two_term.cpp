@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 
 #include "raycore/fresnel.h"
 #include "raycore/tracer_whitted.h"
@@ -12,15 +13,44 @@ namespace rg::ray {
 
 namespace {
 
+// What a path records as it goes: the full RayPath (vertices, events; the exit radiance
+// when shading) or the run-time PathSummary (event bits only).
+void beginPath(RayPath& p, PathEvent first, glm::vec3 F, const glm::vec3& at) {
+    p.valid = true;
+    p.F = F;
+    p.G = glm::vec3(1.0f);
+    p.events.push_back(first);
+    p.vertices.push_back(at);
+}
+void beginPath(PathSummary& p, PathEvent first, glm::vec3 F, const glm::vec3&) {
+    p.valid = true;
+    p.F = F;
+    p.G = glm::vec3(1.0f);
+    p.length = 1;
+    p.events = first == PathEvent::Refract ? 1u : 0u;
+}
+void addEvent(RayPath& p, PathEvent e, const glm::vec3& at) {
+    p.events.push_back(e);
+    p.vertices.push_back(at);
+}
+void addEvent(PathSummary& p, PathEvent e, const glm::vec3&) {
+    if (p.length < kPathEventBits && e == PathEvent::Refract) p.events |= 1u << p.length;
+    if (p.length < 255) ++p.length;
+}
+void setExit(RayPath& p, const Ray& ray, const Hit& hit) {
+    p.exitRay = ray;
+    p.exitHit = hit;
+}
+void setExit(PathSummary& p, const Ray& ray, const Hit&) { p.exitRay = ray; }
+
 // Continues a path from surface point `s` of the lens object in direction `dir`: at every
 // further interface of the same object, the child with the larger Fresnel coefficient.
+// With `shadeExit` the radiance along the exit ray is traced on (Whitted); the run-time
+// summary never shades.
+template <class Path>
 void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEvent first,
-                glm::vec3 F, int maxDepth, RayCounts& counts, RayPath& path) {
-    path.valid = true;
-    path.F = F;
-    path.G = glm::vec3(1.0f);
-    path.events.push_back(first);
-    path.vertices.push_back(s.p);
+                glm::vec3 F, int maxDepth, bool shadeExit, RayCounts& counts, Path& path) {
+    beginPath(path, first, F, s.p);
     Ray ray;
     ray.dir = dir;
     ray.origin = accel.offsetOrigin(s, dir);
@@ -28,15 +58,15 @@ void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEv
     int depth = 1;
     for (;;) {
         counts.add(kind);
-        Hit hit = accel.intersect(ray);
+        Hit hit;
+        const SurfacePoint p = accel.intersectSurface(ray, hit);
         if (!hit.valid() || hit.object != s.object) {
             // Left the local object: R or T is the radiance along this exit ray.
-            path.exitRay = ray;
-            path.exitHit = hit;
-            path.radiance = whittedShade(accel, ray, hit, depth, maxDepth, counts);
+            setExit(path, ray, hit);
+            if constexpr (std::is_same_v<Path, RayPath>)
+                if (shadeExit) path.radiance = whittedShade(accel, ray, hit, p, depth, maxDepth, counts);
             return;
         }
-        SurfacePoint p = accel.surface(ray, hit);
         const Material& m = *p.material;
         if (!p.frontFace && m.type == MaterialType::Glass)
             path.G *= transparencyAttenuation(m.transmittance, hit.t);
@@ -44,8 +74,7 @@ void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEv
             // The path ends inside the object (depth budget) or on a part that neither
             // reflects nor refracts: it contributes nothing.
             path.valid = false;
-            path.exitRay = ray;
-            path.exitHit = hit;
+            setExit(path, ray, hit);
             return;
         }
         const glm::vec3 n = p.frontFace ? p.ns : -p.ns;
@@ -54,7 +83,7 @@ void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEv
         if (m.type == MaterialType::Mirror) {
             path.F *= mirrorReflectance(m, cosI);
             next = mirrorDirection(p, ray.dir);
-            path.events.push_back(PathEvent::Reflect);
+            addEvent(path, PathEvent::Reflect, p.p);
             kind = RayKind::Reflection;
         } else {
             const float etaI = p.frontFace ? 1.0f : m.ior, etaT = p.frontFace ? m.ior : 1.0f;
@@ -66,19 +95,50 @@ void followPath(const Accel& accel, const SurfacePoint& s, glm::vec3 dir, PathEv
             if (FR >= 1.0f - FR) {
                 path.F *= FR;
                 next = mirrorDirection(p, ray.dir);
-                path.events.push_back(PathEvent::Reflect);
+                addEvent(path, PathEvent::Reflect, p.p);
                 kind = RayKind::Reflection;
             } else {
                 path.F *= 1.0f - FR;
                 next = t;
-                path.events.push_back(PathEvent::Refract);
+                addEvent(path, PathEvent::Refract, p.p);
                 kind = RayKind::Refraction;
             }
         }
-        path.vertices.push_back(p.p);
         ray.dir = next;
         ray.origin = accel.offsetOrigin(p, next);
         ++depth;
+    }
+}
+
+// The two paths from the first hit `s` of a lens object (both for glass, the reflection
+// for a mirror); the first segment's attenuation when the ray arrived from inside.
+template <class Path>
+void startPaths(const Accel& accel, glm::vec3 dir, const SurfacePoint& s, float hitT,
+                int maxDepth, bool shadeExits, RayCounts& counts, Path& reflect, Path& refract) {
+    const Material& m = *s.material;
+    const glm::vec3 n = s.frontFace ? s.ns : -s.ns;
+    const float cosI = std::max(0.0f, -glm::dot(dir, n));
+    const glm::vec3 r = mirrorDirection(s, dir);
+    if (m.type == MaterialType::Mirror) {
+        followPath(accel, s, r, PathEvent::Reflect, mirrorReflectance(m, cosI), maxDepth,
+                   shadeExits, counts, reflect);
+        return;
+    }
+    const float etaI = s.frontFace ? 1.0f : m.ior, etaT = s.frontFace ? m.ior : 1.0f;
+    float FR = FresnelDielectric(cosI, etaI, etaT);
+    glm::vec3 t;
+    bool canRefract = refractDir(dir, n, etaI / etaT, &t);
+    if (!canRefract) FR = 1.0f;
+    followPath(accel, s, r, PathEvent::Reflect, glm::vec3(FR), maxDepth, shadeExits, counts,
+               reflect);
+    if (canRefract)
+        followPath(accel, s, t, PathEvent::Refract, glm::vec3(1.0f - FR), maxDepth, shadeExits,
+                   counts, refract);
+    // A first hit on a back face (camera inside the glass) attenuates both terms alike.
+    if (!s.frontFace) {
+        glm::vec3 g = transparencyAttenuation(m.transmittance, hitT);
+        reflect.G *= g;
+        refract.G *= g;
     }
 }
 
@@ -106,30 +166,39 @@ TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, const Hit& hi
     out.hitLens = true;
     out.lensObject = s.object;
     out.direct = diffuseLighting(accel, s, primary.dir, counts);
-    const glm::vec3 n = s.frontFace ? s.ns : -s.ns;
-    const float cosI = std::max(0.0f, -glm::dot(primary.dir, n));
-    const glm::vec3 r = mirrorDirection(s, primary.dir);
-    if (m.type == MaterialType::Mirror) {
-        followPath(accel, s, r, PathEvent::Reflect, mirrorReflectance(m, cosI), maxDepth, counts,
-                   out.reflect);
-        return out;
-    }
-    const float etaI = s.frontFace ? 1.0f : m.ior, etaT = s.frontFace ? m.ior : 1.0f;
-    float FR = FresnelDielectric(cosI, etaI, etaT);
-    glm::vec3 t;
-    bool canRefract = refractDir(primary.dir, n, etaI / etaT, &t);
-    if (!canRefract) FR = 1.0f;
-    followPath(accel, s, r, PathEvent::Reflect, glm::vec3(FR), maxDepth, counts, out.reflect);
-    if (canRefract)
-        followPath(accel, s, t, PathEvent::Refract, glm::vec3(1.0f - FR), maxDepth, counts,
-                   out.refract);
-    // A first hit on a back face (camera inside the glass) attenuates both terms alike.
-    if (!s.frontFace) {
-        glm::vec3 g = transparencyAttenuation(m.transmittance, hit.t);
-        out.reflect.G *= g;
-        out.refract.G *= g;
-    }
+    startPaths(accel, primary.dir, s, hit.t, maxDepth, true, counts, out.reflect, out.refract);
     return out;
+}
+
+void traceLensHit(const Accel& accel, const Ray& incoming, const Hit& hit, const SurfacePoint& s,
+                  int maxDepth, bool shadeExits, RayCounts& counts, RayPath& reflect,
+                  RayPath& refract) {
+    reflect = RayPath();
+    refract = RayPath();
+    if (!hit.valid() || maxDepth <= 0 || s.material->type == MaterialType::Diffuse) return;
+    startPaths(accel, incoming.dir, s, hit.t, maxDepth, shadeExits, counts, reflect, refract);
+}
+
+LensPaths traceLensPaths(const Accel& local, glm::vec3 incomingDir, const SurfacePoint& start,
+                         int maxDepth, RayCounts& counts) {
+    LensPaths out;
+    if (maxDepth <= 0 || !start.material || start.material->type == MaterialType::Diffuse)
+        return out;
+    startPaths(local, incomingDir, start, 0.0f, maxDepth, false, counts, out.reflect, out.refract);
+    return out;
+}
+
+PathSummary summarise(const RayPath& path) {
+    PathSummary s;
+    s.valid = path.valid;
+    s.F = path.F;
+    s.G = path.G;
+    s.exitRay = path.exitRay;
+    if (path.events.empty()) return s;
+    beginPath(s, path.events[0], path.F, glm::vec3(0.0f));
+    s.valid = path.valid;
+    for (size_t i = 1; i < path.events.size(); ++i) addEvent(s, path.events[i], glm::vec3(0.0f));
+    return s;
 }
 
 float pathConfidence(const std::vector<glm::vec3>& dirs, float thetaCDegrees) {
@@ -150,6 +219,7 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
                      &im.reflectF, &im.refractF, &im.reflectG, &im.refractG,
                      &im.reflectRadiance, &im.refractRadiance, &im.direct, &im.sum})
         *i = Image(o.width, o.height, 3);
+    im.lensCoverage = Image(o.width, o.height, 1);
     im.reflectConfidence = Image(o.width, o.height, 1, 1.0f);
     im.refractConfidence = Image(o.width, o.height, 1, 1.0f);
     const int n = std::max(1, o.spp);
@@ -163,6 +233,7 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
                 direct(0.0f), fR(0.0f), fT(0.0f), gR(0.0f), gT(0.0f);
             dirsR.clear();
             dirsT.clear();
+            int lensSamples = 0;
             const CameraRowRays::Samples px = row.pixel(x);
             for (int sy = 0; sy < n; ++sy)
                 for (int sx = 0; sx < n; ++sx) {
@@ -170,6 +241,7 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
                     counts.add(RayKind::Primary);
                     TwoTermSample s = traceTwoTerm(accel, px.rays[i], px.hits[i], px.points[i], o.maxDepth, counts);
                     direct += s.direct;
+                    lensSamples += s.hitLens ? 1 : 0;
                     if (s.reflect.valid) {
                         glm::vec3 fg = s.reflect.F * s.reflect.G;
                         fgR += fg;
@@ -201,6 +273,7 @@ TwoTermImages renderTwoTerm(const Accel& accel, const Camera& camera, const Rend
             im.refractRadiance.setRgb(x, y, radT * inv);
             im.direct.setRgb(x, y, direct * inv);
             im.sum.setRgb(x, y, (direct + termR + termT) * inv);
+            im.lensCoverage.at(x, y, 0) = float(lensSamples) * inv;
             im.reflectConfidence.at(x, y, 0) = pathConfidence(dirsR);
             im.refractConfidence.at(x, y, 0) = pathConfidence(dirsT);
         }

@@ -31,6 +31,27 @@ Rgba8 applyColorTable(const ColorTable& t, Rgba8 c) {
     return o;
 }
 
+uint32_t colorTableIndex16(uint16_t v, size_t n) {
+    if (n <= 1) return 0;
+    return uint32_t((2u * uint64_t(v) * (n - 1) + 65535u) / 131070u);
+}
+
+Rgba8 applyColorTable16(const ColorTable& t, uint16_t v) {
+    const uint8_t e = narrow16(v);
+    const size_t n = t.entries.size();
+    if (n == 0) return {e, e, e, e};
+    const Rgba8& T = t.entries[colorTableIndex16(v, n)];
+    switch (t.format) {
+        case BaseFormat::Alpha: return {e, e, e, T.a};
+        case BaseFormat::Luminance: return {T.r, T.r, T.r, e};
+        case BaseFormat::LuminanceAlpha: return {T.r, T.r, T.r, T.a};
+        case BaseFormat::Intensity: return {T.r, T.r, T.r, T.r};
+        case BaseFormat::Rgb: return {T.r, T.g, T.b, e};
+        case BaseFormat::Rgba: return T;
+    }
+    return T;
+}
+
 BaseFormat colorTableResultFormat(BaseFormat tex, BaseFormat table) {
     // Union of the components: colour if either has colour (L/I/RGB count as colour),
     // alpha if either has alpha. A table that only has L/I and a texture with only L/I

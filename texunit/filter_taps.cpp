@@ -79,6 +79,21 @@ glm::vec4 resolveTapsFloat(const Texture& t, const SamplerState& s, const TapLis
     return glm::vec4(float(acc[0]), float(acc[1]), float(acc[2]), float(acc[3]));
 }
 
+uint16_t resolveTaps16(const Texture& t, const SamplerState& s, const TapList& taps) {
+    // The 8-bit rule at 16 bits: Σ weight·v exactly in 64 bits, one rounding half up.
+    uint64_t acc = 0;
+    for (int i = 0; i < taps.count; ++i) {
+        const TexelTap& tp = taps.taps[size_t(i)];
+        const uint32_t v = tp.border ? 257u * s.borderColor.r
+                                     : t.texel16(tp.level, tp.face, tp.xyzw[0], tp.xyzw[1],
+                                                 tp.xyzw[2], tp.xyzw[3]);
+        acc += tp.weight * v;
+    }
+    const int b = taps.weightBits;
+    const uint64_t half = b > 0 ? uint64_t(1) << (b - 1) : 0;
+    return uint16_t((acc + half) >> b);
+}
+
 Rgba8 resolveTaps(const Texture& t, const SamplerState& s, const TapList& taps) {
     // Float formats: the same weights, accumulated in double in tap order, converted once.
     if (t.isFloat()) return floatToRgba8(resolveTapsFloat(t, s, taps));

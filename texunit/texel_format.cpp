@@ -26,6 +26,7 @@ constexpr std::array<FormatInfo, size_t(TexelFormat::Count)> kFormats = {{
     {"Depth16", 2, BaseFormat::Luminance, true, true},
     {"Depth24", 4, BaseFormat::Luminance, true, true},
     {"Depth32F", 4, BaseFormat::Luminance, true, true},
+    {"I16", 2, BaseFormat::Intensity, false, false},
 }};
 
 uint16_t load16(const uint8_t* p) { return uint16_t(p[0] | (p[1] << 8)); }
@@ -76,6 +77,10 @@ Rgba8 expandTexel8(TexelFormat f, const uint8_t* p) {
         }
         case TexelFormat::RGB8: return {p[0], p[1], p[2], 255};
         case TexelFormat::RGBA8: return {p[0], p[1], p[2], p[3]};
+        case TexelFormat::I16: {
+            const uint8_t i = narrow16(load16(p));
+            return {i, i, i, i};
+        }
         default: return {};
     }
 }

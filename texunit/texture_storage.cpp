@@ -69,6 +69,7 @@ Texture::Texture(const TextureDesc& desc, std::shared_ptr<Pool> pool)
             lv.texelsF.assign(lv.count * size_t(faces_), glm::vec4(0.0f));
         else
             lv.texels8.assign(lv.count * size_t(faces_), Rgba8{});
+        if (desc.format == TexelFormat::I16) lv.texels16.assign(lv.count * size_t(faces_), 0);
         bytes_ += uint64_t(lv.count) * uint64_t(faces_) * uint64_t(fi.bytesPerTexel);
     }
 }
@@ -193,6 +194,7 @@ void TextureMemory::upload(Texture& t, int level, int face, std::span<const uint
             lv.texelsF[off + i] = expandTexelFloat(t.desc().format, p);
         else
             lv.texels8[off + i] = expandTexel8(t.desc().format, p);
+        if (t.is16()) lv.texels16[off + i] = uint16_t(p[0] | (p[1] << 8));
     }
     lv.uploaded[size_t(face)] = true;
     pool_->uploadBytes += expect;

@@ -11,6 +11,8 @@
 // per-thread shards, so the rasterizer may call it from many threads.
 #include "texunit/texture_units.h"
 
+#include "texunit/pixel_texture.h"
+
 #include <string>
 
 #include "core/arith8.h"
@@ -56,6 +58,11 @@ void TextureUnits::setStage(int i, const StageState& s) {
     checkStage(i);
     if (s.colorOp >= TextureOp::Count || s.alphaOp >= TextureOp::Count)
         throw InvalidState("texture op out of range at stage " + std::to_string(i));
+    // Refused here rather than at draw time, so that no state the device holds (and a
+    // trace records) has an ALPHAOP without a meaning (docs/hardware.md, "Texture stages").
+    if (colourOnlyOp(s.alphaOp))
+        throw InvalidState("stage " + std::to_string(i) + ": D3DTOP_" + std::string(textureOpName(s.alphaOp)) +
+                           " is a colour-only op");
     if (s.texCoordIndex >= kMaxTexCoordSets)
         throw InvalidState("stage " + std::to_string(i) + ": texture coordinate index " +
                            std::to_string(s.texCoordIndex) + " outside [0, " +
@@ -110,6 +117,7 @@ const TexGenState& TextureUnits::texGen(int set) const {
 void TextureUnits::setPixelTexture(const PixelTextureState& s) {
     checkStage(s.stage);
     pixelTexture_ = s;
+    pixelLut_ = compilePixelTransfer();
 }
 void TextureUnits::setTextureMemory(std::shared_ptr<TextureMemory> m) { memory_ = std::move(m); }
 
@@ -168,6 +176,7 @@ void TextureUnits::refresh() {
     for (int i = 0; i < active_; ++i) compiled->state[size_t(i)] = units_[size_t(i)].stage;
     detail::compileCascade(*compiled, active_, sampling_);
     compiled_ = std::move(compiled);
+    pixelLut_ = compilePixelTransfer();
 }
 
 bool TextureUnits::passThrough() const { return active_ == 0; }
@@ -233,15 +242,6 @@ void TextureUnits::validate(const Profile& p) const {
     for (int i = 0; i < n; ++i) {
         const Unit& u = units_[size_t(i)];
         const StageState& s = u.stage;
-        switch (s.alphaOp) {
-            case TextureOp::ModulateAlphaAddColor:
-            case TextureOp::ModulateColorAddAlpha:
-            case TextureOp::ModulateInvAlphaAddColor:
-            case TextureOp::ModulateInvColorAddAlpha:
-                throw InvalidState("stage " + std::to_string(i) + ": D3DTOP_" +
-                                   std::string(textureOpName(s.alphaOp)) + " is a colour-only op");
-            default: break;
-        }
         if (s.texCoordIndex >= p.maxTexCoordSets || s.texCoordIndex >= kMaxTexCoordSets)
             throw UnsupportedFeature(std::string(p.name), "texture coordinate set " +
                                                               std::to_string(s.texCoordIndex));
@@ -280,8 +280,12 @@ void TextureUnits::validate(const Profile& p) const {
                                          "Direct3D offers D3DTSS_TCI_* and the texture matrix");
         }
     }
+    validatePixelTexture(p);
+}
+
+void TextureUnits::validatePixelTexture(const Profile& p) const {
     if (pixelTexture_.enabled) {
-        p.require(Feature::PixelTexture);
+        p.require(Feature::PixelTexture, "a pixel transfer with pixel texture enabled");
         checkStage(pixelTexture_.stage);
         const Unit& u = units_[pixelTexture_.stage];
         if (!u.texture) throw InvalidState("pixel texture enabled without a texture");
@@ -289,7 +293,11 @@ void TextureUnits::validate(const Profile& p) const {
         if (u.texture->desc().target == TextureTarget::Texture4D) p.require(Feature::Texture4D);
         if (u.texture->desc().target == TextureTarget::CubeMap)
             throw InvalidState("pixel texture takes 1D, 2D, 3D or 4D textures, not cube maps");
-        if (u.colorTable) p.require(Feature::TextureColorTable);
+        if (u.colorTable) {
+            p.require(Feature::TextureColorTable);
+            p.requireLimit("texture colour table size", int64_t(u.colorTable->entries.size()),
+                           p.colorTableSize);
+        }
     }
 }
 
@@ -359,6 +367,18 @@ std::array<Rgba8, 4> TextureUnits::sampleStage(int stage, const FragmentQuad& qu
     int32_t lambda;
     projectQuad(stage, quad, c, lambda);
     uint64_t fetched = 0;
+    if (u.colorTable && u.texture->is16()) {
+        // The 16-bit index path (docs/hardware.md, "Colour tables"): the filtered 16-bit
+        // intensity indexes the table; one path for both, the tap list.
+        for (int p = 0; p < 4; ++p) {
+            TapList taps;
+            gatherTaps(*u.texture, u.sampler, c[size_t(p)], lambda, taps);
+            out[size_t(p)] = applyColorTable16(*u.colorTable, resolveTaps16(*u.texture, u.sampler, taps));
+            fetched += uint64_t(taps.count);
+        }
+        fetches_->add(fetched);
+        return out;
+    }
     if (path == Path::Reference) {
         for (int p = 0; p < 4; ++p) {
             TapList taps;

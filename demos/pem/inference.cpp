@@ -102,24 +102,63 @@ std::shared_ptr<const Eigen::SparseMatrix<double>> cachedRegulariser(const Texel
 }  // namespace
 
 InferenceSystem::InferenceSystem(const RenderingMatrix& m, const InferenceOptions& o)
-    : m_(m), o_(o) {
-    const int64_t n = m.layout.count();
-    if (m.A.cols() != n) throw Error("rendering matrix has the wrong number of columns");
-    // Normal equations of  ‖Ax − b‖² + xᵀRx + μ‖x − x̄‖².
-    At_ = m.A.transpose();
-    H_ = At_ * m.A;
-    H_ += *cachedRegulariser(m.layout, o);
+    : InferenceSystem(std::vector<WeightedMatrix>{{&m, {}}}, o) {}
+
+InferenceSystem::InferenceSystem(std::vector<WeightedMatrix> blocks, const InferenceOptions& o)
+    : blocks_(std::move(blocks)), o_(o) {
+    if (blocks_.empty()) throw Error("inference: a system of no rendering matrix");
+    const TexelLayout& L = blocks_[0].m->layout;
+    const int64_t n = L.count();
+    H_.resize(n, n);
+    for (const WeightedMatrix& b : blocks_) {
+        const RenderingMatrix& m = *b.m;
+        if (m.A.cols() != n || m.layout.baseSize != L.baseSize || m.layout.faces != L.faces)
+            throw Error("rendering matrix has the wrong number of columns");
+        if (b.confidence.size() && b.confidence.size() != m.A.rows())
+            throw Error("inference: a confidence per row of the rendering matrix is needed");
+        // Normal equations of  Σ_k ‖C_k(A_k x − b_k)‖² + xᵀRx + μ‖x − x̄‖².
+        Eigen::SparseMatrix<double> At = m.A.transpose();
+        if (b.confidence.size()) {
+            const Eigen::VectorXd c2 = b.confidence.cwiseProduct(b.confidence);
+            At = At * c2.asDiagonal();
+        }
+        H_ += At * m.A;
+        AtC2_.push_back(std::move(At));
+    }
+    H_ += *cachedRegulariser(L, o);
     Eigen::SparseMatrix<double> I(n, n);
     I.setIdentity();
     H_ += o.prior * I;
 }
 
 Eigen::VectorXd InferenceSystem::solve(const Eigen::VectorXd& b, InferenceStats* stats) const {
-    const int64_t n = m_.layout.count();
-    if (b.size() != m_.A.rows()) throw Error("layer image does not match the rendering matrix rows");
+    return solve(std::vector<Eigen::VectorXd>{b}, stats);
+}
+
+Eigen::VectorXd InferenceSystem::solve(const std::vector<Eigen::VectorXd>& bs,
+                                       InferenceStats* stats) const {
+    const int64_t n = layout().count();
+    if (bs.size() != blocks_.size()) throw Error("inference: one right-hand side per block");
     const InferenceOptions& o = o_;
-    double mean = b.size() ? b.mean() : 0.5;
-    Eigen::VectorXd rhs = At_ * b;
+    // The prior's target: the mean of b, each row weighted as in the least squares.
+    double wsum = 0.0, bsum = 0.0;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+    for (size_t k = 0; k < bs.size(); ++k) {
+        const Eigen::VectorXd& b = bs[k];
+        if (b.size() != blocks_[k].m->A.rows())
+            throw Error("layer image does not match the rendering matrix rows");
+        const Eigen::VectorXd& c = blocks_[k].confidence;
+        if (c.size()) {
+            const Eigen::VectorXd c2 = c.cwiseProduct(c);
+            wsum += c2.sum();
+            bsum += c2.dot(b);
+        } else {
+            wsum += double(b.size());
+            bsum += b.sum();
+        }
+        rhs += AtC2_[k] * b;
+    }
+    const double mean = wsum > 0 ? bsum / wsum : 0.5;
     rhs.array() += o.prior * mean;
 
     Eigen::VectorXd x = Eigen::VectorXd::Constant(n, mean);
@@ -162,11 +201,21 @@ Eigen::VectorXd InferenceSystem::solve(const Eigen::VectorXd& b, InferenceStats*
         if (x[i] < 0.0 || x[i] > 1.0) ++s.clampedTexels;
         x[i] = std::clamp(x[i], 0.0, 1.0);
     }
-    double nb = b.norm();
-    s.residual = nb > 0 ? (m_.A * x - b).norm() / nb : 0.0;
+    double num = 0.0, den = 0.0;
+    for (size_t k = 0; k < bs.size(); ++k) {
+        Eigen::VectorXd r = blocks_[k].m->A * x - bs[k];
+        Eigen::VectorXd b = bs[k];
+        if (blocks_[k].confidence.size()) {
+            r = r.cwiseProduct(blocks_[k].confidence);
+            b = b.cwiseProduct(blocks_[k].confidence);
+        }
+        num += r.squaredNorm();
+        den += b.squaredNorm();
+        s.rows += blocks_[k].m->A.rows();
+        s.nonZeros += blocks_[k].m->A.nonZeros();
+    }
+    s.residual = den > 0 ? std::sqrt(num / den) : 0.0;
     s.texels = n;
-    s.rows = m_.A.rows();
-    s.nonZeros = m_.A.nonZeros();
     if (stats) *stats = s;
     return x;
 }

@@ -54,20 +54,37 @@ struct InferenceStats {
     int64_t clampedTexels = 0;
 };
 
-// The normal equations of one rendering matrix, built once and shared by the channels
-// (and layers) that use the same A:  H = AᵀA + R + μI, with R the regulariser.
+// One block of a stacked system: a rendering matrix and a weight per row. 000 §4.3
+// multiplies both sides of A x = b by the confidence c, so a row's least-squares weight
+// is c²; `confidence` empty means 1 for every row.
+struct WeightedMatrix {
+    const RenderingMatrix* m = nullptr;
+    Eigen::VectorXd confidence;
+};
+
+// The normal equations, built once and shared by the channels (and layers) that use the
+// same matrices:  H = Σ_k A_kᵀ C_k² A_k + R + μI, with R the regulariser. One block is
+// the PEM's A x = b; several stack 000 §4.3's simultaneous systems (both terms, A_R x = b_R
+// and A_T x = b_T; several viewpoints; several lens objects sharing a layer), all on
+// the texel layout of the first block.
 class InferenceSystem {
   public:
     InferenceSystem(const RenderingMatrix& m, const InferenceOptions& options);
+    InferenceSystem(std::vector<WeightedMatrix> blocks, const InferenceOptions& options);
     // Solves one channel; thread-safe (channels may be solved in parallel). `b` has one
     // entry per row of the matrix, in [0, 1].
     Eigen::VectorXd solve(const Eigen::VectorXd& b, InferenceStats* stats = nullptr) const;
-    const RenderingMatrix& matrix() const { return m_; }
+    // The stacked form: one right-hand side per block, in block order.
+    Eigen::VectorXd solve(const std::vector<Eigen::VectorXd>& b,
+                          InferenceStats* stats = nullptr) const;
+    const RenderingMatrix& matrix() const { return *blocks_.at(0).m; }
+    const TexelLayout& layout() const { return blocks_.at(0).m->layout; }
 
   private:
-    const RenderingMatrix& m_;
+    std::vector<WeightedMatrix> blocks_;
     InferenceOptions o_;
-    Eigen::SparseMatrix<double> At_, H_;
+    std::vector<Eigen::SparseMatrix<double>> AtC2_;  // A_kᵀ C_k² per block
+    Eigen::SparseMatrix<double> H_;
 };
 
 // Convenience: builds the system and solves one channel.

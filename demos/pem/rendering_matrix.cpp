@@ -114,60 +114,88 @@ std::shared_ptr<tex::Texture> makeMapFromTexels(tex::TextureMemory& memory,
 
 namespace {
 
+IsolatingRendering pemIsolating(raster::Device& device, PemRenderer& renderer,
+                                const ray::Camera& camera, size_t part, EmLayer layer,
+                                int baseSize) {
+    renderer.prepare(camera, modeFor(layer));
+    IsolatingRendering r;
+    r.layout = layoutFor(layer, baseSize);
+    r.subsample = 1;
+    r.sampler = PemRenderer::cubeSampler();
+    r.render = [&device, &renderer, camera, part, layer](
+                   const std::shared_ptr<const tex::Texture>& texture,
+                   const tex::SamplerState& sampler) {
+        renderLayer(device, renderer, camera, part, layer, texture, sampler);
+    };
+    return r;
+}
+
 }  // namespace
 
-RenderingMatrix buildMatrixByTestRenderings(raster::Device& device, PemRenderer& renderer,
-                                            const ray::Camera& camera, size_t part, EmLayer layer,
-                                            int baseSize, MatrixBuildStats* stats) {
+RenderingMatrix buildMatrixByTestRenderings(raster::Device& device, tex::TextureMemory& memory,
+                                            const IsolatingRendering& R,
+                                            MatrixBuildStats* stats) {
     auto t0 = Clock::now();
-    const int W = device.framebuffer().width(), H = device.framebuffer().height();
+    const int n = std::max(1, R.subsample);
+    const int DW = device.framebuffer().width(), DH = device.framebuffer().height();
+    if (DW % n || DH % n)
+        throw Error("rendering matrix: the device is not a whole multiple of the display");
+    const int W = DW / n, H = DH / n;
     RenderingMatrix m;
-    m.layout = layoutFor(layer, baseSize);
+    m.layout = R.layout;
     m.width = W;
     m.height = H;
-    renderer.prepare(camera, modeFor(layer));
     int renderings = 0;
+    const double subWeight = 1.0 / double(n * n);
+    auto displayOf = [&](size_t i) {
+        const int x = int(i % size_t(DW)), y = int(i / size_t(DW));
+        return size_t(y / n) * size_t(W) + size_t(x / n);
+    };
 
-    // Row of every pixel the layer draws (alpha 255 in an identification rendering).
+    // Row of every display pixel the layer draws (alpha 255 in an identification rendering
+    // on any of its subpixels).
     std::vector<int32_t> rowOf(size_t(W) * H, -1);
     std::vector<std::map<int64_t, double>> rows;
     for (int level = 0; level < m.layout.levels(); ++level) {
         // ---- identification: nearest texel on `level`, encoded in the colour ----------
-        auto id = makeMap(renderer.memory(), m.layout, [&](int l, int f, int x, int y) {
+        auto id = makeMap(memory, m.layout, [&](int l, int f, int x, int y) {
             if (l != level) return Rgba8{0, 0, 0, 0};
             return Rgba8{uint8_t(x & 255), uint8_t(y & 255),
                          uint8_t(f | ((x >> 8) << 3) | ((y >> 8) << 5)), 255};
         });
-        tex::SamplerState nearest = PemRenderer::cubeSampler();
+        tex::SamplerState nearest = R.sampler;
         nearest.magFilter = nearest.minFilter = tex::FilterMode::Nearest;
         nearest.mipFilter = tex::MipMode::None;
         nearest.baseLevel = level;
         nearest.maxLevel = level;
-        renderLayer(device, renderer, camera, part, layer, id, nearest);
+        R.render(id, nearest);
         ++renderings;
         std::vector<Rgba8> idImage(device.framebuffer().color().begin(),
                                    device.framebuffer().color().end());
-        if (level == 0)
+        if (level == 0) {
             for (size_t i = 0; i < idImage.size(); ++i)
-                if (idImage[i].a == 255) {
-                    rowOf[i] = int32_t(m.rowPixel.size());
-                    m.rowPixel.push_back(int32_t(i));
+                if (idImage[i].a == 255 && rowOf[displayOf(i)] < 0) rowOf[displayOf(i)] = 0;
+            for (size_t d = 0; d < rowOf.size(); ++d)
+                if (rowOf[d] == 0) {
+                    rowOf[d] = int32_t(m.rowPixel.size());
+                    m.rowPixel.push_back(int32_t(d));
                     rows.emplace_back();
                 }
+        }
         const int size = m.layout.levelSize(level);
         // ---- 9 isolating renderings -------------------------------------------------------
         for (int py = 0; py < 3; ++py)
             for (int px = 0; px < 3; ++px) {
-                auto lit = makeMap(renderer.memory(), m.layout, [&](int l, int, int x, int y) {
+                auto lit = makeMap(memory, m.layout, [&](int l, int, int x, int y) {
                     bool on = l == level && x % 3 == px && y % 3 == py;
                     return on ? Rgba8{255, 255, 255, 255} : Rgba8{0, 0, 0, 0};
                 });
-                renderLayer(device, renderer, camera, part, layer, lit,
-                            PemRenderer::cubeSampler());
+                R.render(lit, R.sampler);
                 ++renderings;
                 const auto color = device.framebuffer().color();
                 for (size_t i = 0; i < color.size(); ++i) {
-                    if (rowOf[i] < 0 || color[i].r == 0) continue;
+                    const int32_t row = rowOf[displayOf(i)];
+                    if (row < 0 || color[i].r == 0 || idImage[i].a != 255) continue;
                     const Rgba8 c = idImage[i];
                     int face = c.b & 7;
                     int xn = c.r | (((c.b >> 3) & 3) << 8), yn = c.g | (((c.b >> 5) & 3) << 8);
@@ -175,8 +203,8 @@ RenderingMatrix buildMatrixByTestRenderings(raster::Device& device, PemRenderer&
                     int xc = xn - 1 + ((px - (xn - 1)) % 3 + 3) % 3;
                     int yc = yn - 1 + ((py - (yn - 1)) % 3 + 3) % 3;
                     if (xc < 0 || yc < 0 || xc >= size || yc >= size) continue;
-                    rows[size_t(rowOf[i])][m.layout.index(level, face, xc, yc)] +=
-                        color[i].r / 255.0;
+                    rows[size_t(row)][m.layout.index(level, face, xc, yc)] +=
+                        subWeight * color[i].r / 255.0;
                 }
             }
     }
@@ -192,26 +220,31 @@ RenderingMatrix buildMatrixByTestRenderings(raster::Device& device, PemRenderer&
     return m;
 }
 
-RenderingMatrix buildMatrixByInstrumentedPass(raster::Device& device, PemRenderer& renderer,
-                                              const ray::Camera& camera, size_t part,
-                                              EmLayer layer, int baseSize,
+RenderingMatrix buildMatrixByInstrumentedPass(raster::Device& device,
+                                              tex::TextureMemory& memory,
+                                              const IsolatingRendering& R,
                                               MatrixBuildStats* stats) {
     auto t0 = Clock::now();
-    const int W = device.framebuffer().width(), H = device.framebuffer().height();
+    const int n = std::max(1, R.subsample);
+    const int DW = device.framebuffer().width(), DH = device.framebuffer().height();
+    if (DW % n || DH % n)
+        throw Error("rendering matrix: the device is not a whole multiple of the display");
+    const int W = DW / n, H = DH / n;
     RenderingMatrix m;
-    m.layout = layoutFor(layer, baseSize);
+    m.layout = R.layout;
     m.width = W;
     m.height = H;
-    renderer.prepare(camera, modeFor(layer));
 
     // Any texture of the right shape: the taps do not depend on the texel values.
-    auto probe = makeMap(renderer.memory(), m.layout,
+    auto probe = makeMap(memory, m.layout,
                           [](int, int, int, int) { return Rgba8{255, 255, 255, 255}; });
-    struct PixelTaps {
-        int count = -1;  // −1: the layer did not reach the pixel
+    // Per display pixel, the taps of its subpixels (a subpixel overwritten by a later
+    // fragment replaces its own taps: the last fragment written is what the frame shows).
+    struct SubpixelTaps {
+        int count = -1;  // −1: the layer did not reach the subpixel
         std::array<std::pair<int64_t, double>, tex::TapList::kMax> taps;
     };
-    std::vector<PixelTaps> perPixel(size_t(W) * H);
+    std::vector<SubpixelTaps> perSub(size_t(DW) * DH);
     const tex::TextureUnits& tu = device.textureUnits();
     int layerPass = 0;
     device.setFragmentObserver([&](const tex::FragmentQuad& quad, uint8_t passed) {
@@ -219,7 +252,7 @@ RenderingMatrix buildMatrixByInstrumentedPass(raster::Device& device, PemRendere
         for (int i = 0; i < 4; ++i) {
             if (!(passed & (1u << i))) continue;
             int x = quad.x + (i & 1), y = quad.y + (i >> 1);
-            PixelTaps& pt = perPixel[size_t(y) * W + x];
+            SubpixelTaps& pt = perSub[size_t(y) * DW + x];
             tex::TapList list = tu.queryTaps(0, quad, i);
             pt.count = 0;
             for (int k = 0; k < list.count; ++k) {
@@ -233,19 +266,29 @@ RenderingMatrix buildMatrixByInstrumentedPass(raster::Device& device, PemRendere
     device.setPassObserver([&](const raster::PassRecord&, const raster::Framebuffer&) {
         ++layerPass;
     });
-    renderLayer(device, renderer, camera, part, layer, probe, PemRenderer::cubeSampler());
+    R.render(probe, R.sampler);
     device.setFragmentObserver({});
     device.setPassObserver({});
 
     std::vector<Eigen::Triplet<double>> trip;
-    for (size_t i = 0; i < perPixel.size(); ++i) {
-        const PixelTaps& pt = perPixel[i];
-        if (pt.count < 0) continue;
-        int r = int(m.rowPixel.size());
-        m.rowPixel.push_back(int32_t(i));
-        for (int k = 0; k < pt.count; ++k)
-            trip.emplace_back(r, int(pt.taps[size_t(k)].first), pt.taps[size_t(k)].second);
-    }
+    const double subWeight = 1.0 / double(n * n);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            bool any = false;
+            for (int sy = 0; sy < n && !any; ++sy)
+                for (int sx = 0; sx < n && !any; ++sx)
+                    any = perSub[size_t(y * n + sy) * DW + size_t(x * n + sx)].count >= 0;
+            if (!any) continue;
+            const int r = int(m.rowPixel.size());
+            m.rowPixel.push_back(int32_t(y * W + x));
+            for (int sy = 0; sy < n; ++sy)
+                for (int sx = 0; sx < n; ++sx) {
+                    const SubpixelTaps& pt = perSub[size_t(y * n + sy) * DW + size_t(x * n + sx)];
+                    for (int k = 0; k < pt.count; ++k)
+                        trip.emplace_back(r, int(pt.taps[size_t(k)].first),
+                                          subWeight * pt.taps[size_t(k)].second);
+                }
+        }
     m.A.resize(int64_t(m.rowPixel.size()), m.layout.count());
     m.A.setFromTriplets(trip.begin(), trip.end());  // sums duplicate taps (clamped edges)
     if (stats) {
@@ -253,6 +296,23 @@ RenderingMatrix buildMatrixByInstrumentedPass(raster::Device& device, PemRendere
         stats->seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     }
     return m;
+}
+
+RenderingMatrix buildMatrixByTestRenderings(raster::Device& device, PemRenderer& renderer,
+                                            const ray::Camera& camera, size_t part, EmLayer layer,
+                                            int baseSize, MatrixBuildStats* stats) {
+    return buildMatrixByTestRenderings(
+        device, renderer.memory(), pemIsolating(device, renderer, camera, part, layer, baseSize),
+        stats);
+}
+
+RenderingMatrix buildMatrixByInstrumentedPass(raster::Device& device, PemRenderer& renderer,
+                                              const ray::Camera& camera, size_t part,
+                                              EmLayer layer, int baseSize,
+                                              MatrixBuildStats* stats) {
+    return buildMatrixByInstrumentedPass(
+        device, renderer.memory(), pemIsolating(device, renderer, camera, part, layer, baseSize),
+        stats);
 }
 
 MatrixAgreement compareMatrices(const RenderingMatrix& a, const RenderingMatrix& b,

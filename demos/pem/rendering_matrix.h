@@ -12,6 +12,10 @@
 //      weight) it read — the same code as the sampler, with exact weights.
 //
 // (a) is quantized to 8 bits, so the two agree to within 1/255 per entry.
+//
+// Both are written once for any layer of any demo (IsolatingRendering: how to draw the
+// layer alone, its texel layout, and how many device pixels make a display pixel); the
+// PEM's own layers and hybrid's layered EMs (000 §4.3, rendered 3×3 supersampled) use it.
 #pragma once
 
 #include <functional>
@@ -40,6 +44,28 @@ std::shared_ptr<tex::Texture> makeMapFromTexels(tex::TextureMemory& memory,
                                                 const TexelLayout& layout,
                                                 const std::function<Rgba8(int64_t)>& texel);
 
+// One layer drawn alone on `device`: render(texture, sampler) draws a frame whose first
+// pass lays the object's depth and whose later passes draw the layer's triangles with
+// stage 0 = SELECTARG1(TEXTURE) (colour and alpha) reading `texture` through `sampler`.
+// The device's framebuffer is `subsample`× the display along each axis: a display pixel's
+// row averages its subsample² device pixels (each tap weighs 1/subsample²), so A models a
+// supersampled frame box-filtered to the display (000 §6: 3×3 subsamples).
+struct IsolatingRendering {
+    TexelLayout layout;
+    int subsample = 1;
+    tex::SamplerState sampler;  // the frame's sampler (trilinear, clamped)
+    std::function<void(const std::shared_ptr<const tex::Texture>&, const tex::SamplerState&)>
+        render;
+};
+RenderingMatrix buildMatrixByTestRenderings(raster::Device& device, tex::TextureMemory& memory,
+                                            const IsolatingRendering& rendering,
+                                            MatrixBuildStats* stats = nullptr);
+RenderingMatrix buildMatrixByInstrumentedPass(raster::Device& device,
+                                              tex::TextureMemory& memory,
+                                              const IsolatingRendering& rendering,
+                                              MatrixBuildStats* stats = nullptr);
+
+// The PEM's layers through the same builders.
 RenderingMatrix buildMatrixByTestRenderings(raster::Device& device, PemRenderer& renderer,
                                             const ray::Camera& camera, size_t part, EmLayer layer,
                                             int baseSize, MatrixBuildStats* stats = nullptr);

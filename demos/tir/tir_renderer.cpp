@@ -334,6 +334,7 @@ TirFrame TirRenderer::render(const ray::Camera& camera, const TirSettings& s) {
     const float py = 1.0f / std::tan(glm::radians(camera.fovYDegrees) * 0.5f);
     const View v = makeView(view, py * float(s.height) / float(s.width), py, far / 500.0f, far);
     const EyeVP& vp = v.vp;
+    eyeVP_ = vp;
     constants_ = v.k;
     SearchConstants& k = constants_;
     k.epsilon = s.epsilon * radius_;

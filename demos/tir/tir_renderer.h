@@ -11,6 +11,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,14 @@ class TirRenderer {
     raster::ProgrammableDevice& device() { return device_; }
     // The search constants of the last frame (tests replay the search on them).
     const SearchConstants& constants() const { return constants_; }
+    // The last frame's vertex program (the camera's view and projection), the refractor's
+    // world-space mesh and the environment cube map (RGBA16F, envSize² faces): with the
+    // maps and constants(), everything pass 4's TirFP reads, so a benchmark or a peer can
+    // replay the final pass alone (bench/tir_final_pass_workload.h).
+    const EyeVP& eyeVP() const { return eyeVP_; }
+    std::span<const TirVertex> refractorVertices() const { return refractor_.vertices; }
+    std::span<const uint32_t> refractorIndices() const { return refractor_.indices; }
+    const tex::Texture& environmentMap() const { return *env_; }
     // Bytes of texture memory resident after the last frame.
     uint64_t textureBytes() const;
     void setPath(Path path) { device_.setPath(path); }
@@ -114,6 +123,7 @@ class TirRenderer {
     float radius_ = 1.0f;
     glm::vec3 centre_{0.0f};  // of the refractor's bounds: where the surroundings are seen from
     SearchConstants constants_;
+    EyeVP eyeVP_;
     int64_t refractiveFragments_ = 0, refractiveFetches_ = 0;
 };
 

@@ -51,7 +51,7 @@ TEST(Profiles, MissingFeatureIsAnErrorNamingProfileAndFeature) {
         EXPECT_NE(std::string(e.what()).find("SGIX_pixel_texture"), std::string::npos);
     }
     EXPECT_NO_THROW(profileByName("sgi-octane-mxe").require(Feature::PixelTexture));
-    // The O2 ran the lookup in software (Heidrich et al. 1999 §4.1): no pixel texture.
+    // The O2 ran the lookup in software (Heidrich et al. 1999 §4, the Fig. 3 text): no pixel texture.
     EXPECT_THROW(profileByName("sgi-o2").require(Feature::PixelTexture), UnsupportedFeature);
     EXPECT_THROW(profileByName("sgi-o2").require(Feature::Texture4D), UnsupportedFeature);
     EXPECT_NO_THROW(profileByName("sgi-o2").require(Feature::TextureColorTable));

@@ -91,6 +91,55 @@ TEST(Inference, FillsTexelsNoPixelReachesFromTheirNeighbours) {
     for (int y = 0; y < 8; ++y) EXPECT_NEAR(x[m.layout.index(0, 0, 7, y)], 0.7, 0.02);
 }
 
+// The default weights on a problem whose answer is known (issue 24 item 1): every texel of
+// the finest level seen through one pixel of its own (A = I on level 0), b a checkerboard of
+// 0.2 and 0.8 per face. The exact least-squares answer is b itself on level 0, and 0.5 on
+// every coarser level (no pixel sees them: the level coupling makes each the mean of its
+// children, the prior pulls towards mean(b) = 0.5). With the default λ = 10⁻³ the
+// smoothing moves a checker texel by about λ·(4 neighbours·0.6) ≈ 0.0024; a smoothness
+// weight ×10 (0.024) or ×100 (0.24) is caught.
+double checkerError(const InferenceOptions& o, double* coarse = nullptr) {
+    RenderingMatrix m;
+    m.layout = TexelLayout{8, 6};
+    const int64_t n0 = int64_t(8) * 8 * 6;
+    m.width = int(n0);
+    m.height = 1;
+    m.A.resize(n0, m.layout.count());
+    std::vector<Eigen::Triplet<double>> t;
+    Eigen::VectorXd b(n0);
+    for (int f = 0; f < 6; ++f)
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                const int64_t texel = m.layout.index(0, f, x, y);
+                EXPECT_LT(texel, n0);
+                m.rowPixel.push_back(int32_t(texel));
+                t.emplace_back(texel, texel, 1.0);
+                b[texel] = ((x + y) & 1) ? 0.8 : 0.2;
+            }
+    m.A.setFromTriplets(t.begin(), t.end());
+    const Eigen::VectorXd x = inferChannel(m, b, o);
+    double worst = 0;
+    for (int64_t i = 0; i < n0; ++i) worst = std::max(worst, std::abs(x[i] - b[i]));
+    if (coarse) {
+        *coarse = 0;
+        for (int64_t i = n0; i < m.layout.count(); ++i) *coarse = std::max(*coarse, std::abs(x[i] - 0.5));
+    }
+    return worst;
+}
+
+TEST(Inference, DefaultWeightsRecoverAKnownAnswer) {
+    double coarse = 0;
+    const double fine = checkerError(InferenceOptions{}, &coarse);
+    EXPECT_LT(fine, 0.005) << "level 0 should hold b within the default smoothing's pull";
+    EXPECT_LT(coarse, 0.01) << "unseen coarser levels should be the mean of their children";
+    // The test can fail: the same problem with the smoothness weight ×10 and ×100.
+    InferenceOptions strong;
+    strong.smoothness *= 10;
+    EXPECT_GT(checkerError(strong), 0.005);
+    strong.smoothness *= 10;
+    EXPECT_GT(checkerError(strong), 0.1);
+}
+
 TEST(Inference, RefusesMismatchedSizes) {
     RenderingMatrix m = syntheticMatrix(10, 3);
     EXPECT_THROW(inferChannel(m, Eigen::VectorXd::Zero(5), InferenceOptions{}), std::exception);

@@ -1,6 +1,6 @@
 // The point-sampled fast fetch of fragment programs (rasterizer/program.h NearestFloat2D,
 // its four-lane and N-quad forms in quad_program.h: detail::nearestIndices and
-// detail::nearestLoads; the wide indices and the AVX2 fetch of quad_program_wide.h) against the tap-list reference (tex::programFetch on
+// detail::nearestLoads; the wide indices and the one- and four-channel AVX2 fetches of quad_program_wide.h) against the tap-list reference (tex::programFetch on
 // Path::Reference), bit for bit, over random float textures, samplers and coordinates —
 // NaN, ±infinity, negative, huge, denormal, −0 and texel boundaries ± one ulp included.
 #include <gtest/gtest.h>
@@ -58,7 +58,7 @@ TEST(ProgramFetch, PointSampledFastFetchMatchesTheTapListBitForBit) {
     const int sizes[] = {1, 2, 3, 4, 5, 8, 16, 24, 32, 100, 128};
     const AddressMode modes[] = {AddressMode::Wrap, AddressMode::ClampToEdge, AddressMode::Wrap,
                                  AddressMode::ClampToEdge, AddressMode::Border};
-    int compared = 0, comparedLanes = 0, casesLanes4 = 0, comparedAvx2 = 0;
+    int compared = 0, comparedLanes = 0, casesLanes4 = 0, comparedAvx2 = 0, comparedAvx2Four = 0;
     for (int tcase = 0; tcase < 160; ++tcase) {
         tex::TextureDesc d;
         d.format = formats[rng() % 5];
@@ -164,6 +164,21 @@ TEST(ProgramFetch, PointSampledFastFetchMatchesTheTapListBitForBit) {
                     ++comparedAvx2;
                 }
             }
+            // The AVX2 kernel's four-channel fetch (RGBA16F, RGBA32F), where the CPU has AVX2.
+            if (n.data4 && __builtin_cpu_supports("avx2")) {
+                alignas(32) int32_t liveBits32[16];
+                for (int i = 0; i < 16; ++i) liveBits32[i] = ((liveBits[i / 4] >> (i % 4)) & 1u) ? -1 : 0;
+                alignas(32) float gx[16], gy[16], gz[16], gw[16];
+                detail::nearestFetch4Avx2<2>(n, sx, ty, liveBits32, gx, gy, gz, gw);
+                for (int i = 0; i < 16; ++i) {
+                    const glm::vec4 expect = ((liveBits[i / 4] >> (i % 4)) & 1u) ? want[i] : glm::vec4(0.0f);
+                    const glm::vec4 got(gx[i], gy[i], gz[i], gw[i]);
+                    ASSERT_TRUE(sameBits(got, expect))
+                        << "nearestFetch4Avx2, case " << tcase << "/" << scase << " lane " << i << " at (" << sx[i]
+                        << ", " << ty[i] << "): " << show(got) << " want " << show(expect);
+                    ++comparedAvx2Four;
+                }
+            }
             // And one quad alone (the QuadContext form).
             __m128i idx1[1];
             __m128 x1[1], y1[1], z1[1], w1[1];
@@ -194,6 +209,7 @@ TEST(ProgramFetch, PointSampledFastFetchMatchesTheTapListBitForBit) {
     EXPECT_GT(casesLanes4, 100);
     if (__builtin_cpu_supports("avx2")) {
         EXPECT_GT(comparedAvx2, 1000);
+        EXPECT_GT(comparedAvx2Four, 1000);
     }
 }
 

@@ -597,9 +597,10 @@ TEST(ProgrammablePathsAgree, RandomDrawsGiveTheSameBytesOnBothPathsAndAnyThreadC
         st.depthTest = uint8_t(rng() & 1);
         st.depthWrite = 1;
         st.depthFunc = CompareFunc(rng() % 8);
-        st.blend[0] = TargetBlend{uint8_t(rng() & 1), BlendFactor(rng() % 13), BlendFactor(rng() % 13),
+        // Destination factors exclude BOTH* (source factors only; setState refuses them).
+        st.blend[0] = TargetBlend{uint8_t(rng() & 1), BlendFactor(rng() % 13), BlendFactor(rng() % 11),
                                   BlendOp(rng() % 5), uint8_t(rng() % 16)};
-        st.blend[1] = TargetBlend{uint8_t(rng() & 1), BlendFactor(rng() % 13), BlendFactor(rng() % 13),
+        st.blend[1] = TargetBlend{uint8_t(rng() & 1), BlendFactor(rng() % 13), BlendFactor(rng() % 11),
                                   BlendOp(rng() % 5), kWriteRGBA};
         const TexelFormat f0 = (scene & 1) ? TexelFormat::RGBA8 : TexelFormat::RGBA16F;
         std::string expect;

@@ -43,6 +43,24 @@ TEST_P(PipelinePaths, ClippingNearPlaneKeepsTheFrontHalf) {
     EXPECT_EQ(dev.framebuffer().pixel(16, 8).r, 255);
 }
 
+// The near plane exactly at z = 0: a quad with z = ½(x − x_b) crosses it at ndc x_b, placed
+// 0.05 pixel right of column 127's centre on a 256-wide target, so column 127 is outside
+// and column 128 inside. A plane shifted by a thousandth of w (0.26 pixel here) flips
+// column 127.
+TEST_P(PipelinePaths, ClippingNearPlaneIsExactlyZZero) {
+    Device dev(geforce256(), 256, 8, DepthFormat::None, opts());
+    dev.setState(plainState());
+    const float xb = -0.5f / 128.0f + 0.05f / 128.0f;
+    auto z = [&](float x) { return 0.5f * (x - xb); };
+    std::vector<Vertex> q = {ov(-1, 1, z(-1)), ov(1, 1, z(1)), ov(1, -1, z(1)), ov(-1, -1, z(-1))};
+    dev.draw(Primitive::TriangleFan, VertexSpace::Untransformed, q);
+    for (int y = 0; y < 8; ++y) {
+        EXPECT_EQ(dev.framebuffer().pixel(127, y).r, 0) << "row " << y;
+        EXPECT_EQ(dev.framebuffer().pixel(128, y).r, 255) << "row " << y;
+    }
+    EXPECT_EQ(dev.counters().fragmentsGenerated, 128u * 8u);
+}
+
 TEST_P(PipelinePaths, ClippingBehindTheEyeIsCulled) {
     Device dev(geforce256(), 32, 16, DepthFormat::None, opts());
     dev.setState(plainState());
@@ -179,6 +197,42 @@ TEST_P(PipelinePaths, ScissorLimitsDrawsAndClears) {
     EXPECT_EQ(countIf(dev.framebuffer(), [](Rgba8 p) { return p.r == 255; }), 35);
 }
 
+// Pinned in docs/hardware.md: an untransformed vertex's w is ignored (the object position
+// is (x, y, z, 1)), so w = 0, NaN or 7 draws what w = 1 draws.
+TEST_P(PipelinePaths, UntransformedPositionWIsIgnored) {
+    std::string expected;
+    for (float w : {1.0f, 0.0f, std::numeric_limits<float>::quiet_NaN(), 7.0f}) {
+        Device dev(geforce256(), 16, 16, DepthFormat::None, opts());
+        dev.setState(plainState());
+        std::vector<Vertex> tri = {ov(-0.9f, 0.8f, 0.5f, {255, 0, 0, 255}), ov(0.7f, 0.6f, 0.5f, {0, 255, 0, 255}),
+                                   ov(-0.2f, -0.9f, 0.5f, {0, 0, 255, 255})};
+        for (Vertex& v : tri) v.position.w = w;
+        dev.draw(Primitive::TriangleList, VertexSpace::Untransformed, tri);
+        EXPECT_EQ(dev.counters().trianglesDrawn, 1u) << "w = " << w;
+        const std::string h = frameHash(dev.framebuffer());
+        if (expected.empty()) expected = h;
+        EXPECT_EQ(h, expected) << "w = " << w;
+    }
+}
+
+// Pinned: depthWrite with the depth test off writes nothing (D3DRS_ZENABLE = FALSE).
+TEST_P(PipelinePaths, DepthWriteWithTheTestOffWritesNothing) {
+    Device dev(geforce256(), 8, 8, DepthFormat::D16, opts());
+    PipelineState s = plainState();
+    s.depthTest = 0;
+    s.depthWrite = 1;
+    dev.setState(s);
+    dev.clear(false, {}, true, 0.75f);
+    std::vector<Vertex> q = {tv(0, 0), tv(8, 0), tv(8, 8), tv(0, 8)};  // z = 0.5
+    dev.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, q);
+    EXPECT_EQ(countIf(dev.framebuffer(), [](Rgba8 p) { return p.r == 255; }), 64);  // drawn
+    for (uint32_t z : dev.framebuffer().depth()) ASSERT_EQ(z, 49151u);  // floor(0.75·65535 + ½): untouched
+    s.depthTest = 1;
+    dev.setState(s);
+    dev.draw(Primitive::TriangleFan, VertexSpace::Pretransformed, q);
+    EXPECT_EQ(dev.framebuffer().depth()[0], 32768u);  // with the test on it writes
+}
+
 INSTANTIATE_TEST_SUITE_P(Pipeline, PipelinePaths, ::testing::Values(Path::Reference, Path::Fast),
                          [](const auto& info) { return std::string(pathName(info.param)); });
 
@@ -196,6 +250,34 @@ TEST(PixelTransfer, DrawCopyAndReadBackRoundTrip) {
     dev.drawPixels(14, 6, 6, 4, img);  // clipped at the target's edge, no crash
     EXPECT_EQ(dev.framebuffer().pixel(15, 7), img[1 * 6 + 1]);
     EXPECT_THROW(dev.readPixels(12, 0, 6, 4), InvalidState);
+    EXPECT_THROW(dev.copyPixels(12, 0, 6, 4, 0, 0), InvalidState);  // a source past the target
+}
+
+// Pixel transfers take no per-fragment state (docs/trace-format.md, "Pixel transfers"): a
+// viewport and scissor elsewhere, every channel masked, an alpha test and a depth test
+// that would fail, a blend that would zero the colour, leave drawPixels and copyPixels
+// writing every pixel as given.
+TEST(PixelTransfer, NoPerFragmentStateApplies) {
+    Device dev(geforce256(), 16, 8, DepthFormat::D16);
+    PipelineState s = plainState();
+    s.colorWriteMask = 0;
+    s.alphaTest = 1;
+    s.alphaFunc = CompareFunc::Never;
+    s.depthTest = 1;
+    s.depthFunc = CompareFunc::Never;
+    s.blend = 1;
+    s.srcBlend = BlendFactor::Zero;
+    s.dstBlend = BlendFactor::Zero;
+    s.scissorTest = 1;
+    dev.setState(s);
+    dev.setViewport({12, 6, 2, 2, 0.0f, 1.0f});
+    dev.setScissor({0, 0, 1, 1});
+    std::vector<Rgba8> img(6 * 4);
+    for (size_t i = 0; i < img.size(); ++i) img[i] = Rgba8{uint8_t(i + 1), uint8_t(2 * i), 7, uint8_t(9 * i)};
+    dev.drawPixels(1, 2, 6, 4, img);
+    EXPECT_EQ(dev.readPixels(1, 2, 6, 4), img);
+    dev.copyPixels(1, 2, 6, 4, 9, 0);
+    EXPECT_EQ(dev.readPixels(9, 0, 6, 4), img);
 }
 
 // ---- frames, passes, counters ----------------------------------------------------------

@@ -21,6 +21,33 @@ TEST(Fresnel, ExactAtNormalIncidenceIsSquaredRatio) {
     EXPECT_NEAR(FresnelDielectric(1.0f, 1.0f, 1.5f), 0.04f, 1e-6f);
 }
 
+// The exact unpolarized reflectance against the Fresnel equations (Hecht, Optics §4.6) at
+// tabulated points — glass n = 1.5 from air: 45° gives R_s = 0.0920, R_p = 0.00846, R =
+// 0.0502; Brewster's angle atan 1.5 = 56.31° gives R_p = 0, R = R_s/2 = 0.0740; water n =
+// 1.333 at 60°: sin θt = 0.6497, r_s = −0.3392, r_p = 0.0657, R = 0.0597 — and at every degree against the equations in double.
+TEST(Fresnel, ExactReflectanceAtTabulatedAnglesAndIndices) {
+    auto fresnel = [](double cosI, double n1, double n2) {
+        const double sinT = n1 / n2 * std::sqrt(std::max(0.0, 1 - cosI * cosI));
+        if (sinT >= 1) return 1.0;
+        const double cosT = std::sqrt(1 - sinT * sinT);
+        const double rs = (n1 * cosI - n2 * cosT) / (n1 * cosI + n2 * cosT);
+        const double rp = (n1 * cosT - n2 * cosI) / (n1 * cosT + n2 * cosI);
+        return 0.5 * (rs * rs + rp * rp);
+    };
+    const double deg = 3.14159265358979323846 / 180.0;
+    EXPECT_NEAR(FresnelDielectric(float(std::cos(45 * deg)), 1.0f, 1.5f), 0.0502, 1e-4);
+    EXPECT_NEAR(FresnelDielectric(float(std::cos(std::atan(1.5))), 1.0f, 1.5f), 0.0740, 1e-4);
+    EXPECT_NEAR(FresnelDielectric(float(std::cos(60 * deg)), 1.0f, 1.333f), 0.0597, 1e-4);
+    for (double n : {1.2, 1.333, 1.5, 1.7, 2.42})
+        for (int a = 0; a <= 90; ++a) {
+            const float cosI = float(std::cos(a * deg));
+            EXPECT_NEAR(FresnelDielectric(cosI, 1.0f, float(n)), fresnel(cosI, 1.0, float(n)), 2e-6)
+                << "n " << n << " at " << a << "° from air";
+            EXPECT_NEAR(FresnelDielectric(cosI, float(n), 1.0f), fresnel(cosI, float(n), 1.0), 2e-6)
+                << "n " << n << " at " << a << "° from inside";
+        }
+}
+
 TEST(Fresnel, GrazingIncidenceReflectsEverything) {
     EXPECT_NEAR(FresnelDielectric(0.0f, 1.0f, 1.5f), 1.0f, 1e-6f);
     EXPECT_FLOAT_EQ(FresnelSchlick(0.0f, 0.04f), 1.0f);

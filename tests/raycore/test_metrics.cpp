@@ -65,6 +65,35 @@ TEST(Metrics, ErrorStatsMeanP95Max) {
     EXPECT_EQ(heat.rgb(9, 9), glm::vec3(1.0f));       // the maximum: white
 }
 
+// SSIM against closed forms (issue 24 item 1: it was only checked to lie in (0, 0.99)).
+// Constant images have zero variance in every window: SSIM = (2μxμy + C1)/(μx² + μy² + C1).
+// An image and itself shifted by c have equal variances and covariance = variance, so the
+// structure term is 1 and each window scores (2μ(μ + c) + C1)/(μ² + (μ + c)² + C1); on a
+// grey ramp along x a symmetric window's weighted mean is the ramp at its centre.
+TEST(Metrics, SsimMatchesItsClosedFormOnKnownPairs) {
+    const double C1 = 0.0001;
+    Image a(40, 30, 3, 0.5f), b(40, 30, 3, 0.6f);
+    const double y = double(0.6f);  // the float the image holds
+    EXPECT_NEAR(ssim(a, b), (2 * 0.5 * y + C1) / (0.25 + y * y + C1), 1e-9);
+    const int w = 64, h = 24;
+    const double c = 0.125;
+    Image ramp(w, h, 1), shifted(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            ramp.at(x, y, 0) = float(x) / 128.0f;  // exact in float
+            shifted.at(x, y, 0) = float(x) / 128.0f + float(c);
+        }
+    double sum = 0;
+    int windows = 0;
+    for (int cy = 5; cy < h - 5; ++cy)
+        for (int cx = 5; cx < w - 5; ++cx) {
+            const double mu = cx / 128.0;
+            sum += (2 * mu * (mu + c) + C1) / (mu * mu + (mu + c) * (mu + c) + C1);
+            ++windows;
+        }
+    EXPECT_NEAR(ssim(ramp, shifted), sum / windows, 1e-6);
+}
+
 // Masked measurements (the object, not the frame). Oracles: a constant offset gives
 // MSE = offset², so PSNR = 20 dB at 0.1; two constant windows of means μx, μy have SSIM
 // (2μxμy + C1)/(μx² + μy² + C1) with C1 = 0.0001 (the variances and covariance are 0).

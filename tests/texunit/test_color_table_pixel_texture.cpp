@@ -28,6 +28,16 @@ TEST(ColorTable, IndexIsRoundOfClampTimesNMinus1) {
     EXPECT_EQ(colorTableIndex(43, 4), 1u);  // 0.506 → 1
 }
 
+// Pinned (docs/hardware.md): a table of 0 entries reads none and changes nothing.
+TEST(ColorTable, AnEmptyTableChangesNothing) {
+    ColorTable t;
+    for (BaseFormat f : {BaseFormat::Alpha, BaseFormat::Luminance, BaseFormat::LuminanceAlpha,
+                         BaseFormat::Intensity, BaseFormat::Rgb, BaseFormat::Rgba}) {
+        t.format = f;
+        for (Rgba8 c : {Rgba8{0, 85, 170, 255}, Rgba8{1, 2, 3, 4}}) EXPECT_EQ(applyColorTable(t, c), c);
+    }
+}
+
 TEST(ColorTable, MappingPerTableBaseFormat) {
     ColorTable t;
     for (int i = 0; i < 4; ++i)
@@ -116,6 +126,33 @@ TEST(PixelTexture, IdentityTexture2DLeavesTheImageUnchanged) {
     tu.applyPixelTransfer(row);
     EXPECT_EQ(row, image);
     EXPECT_GT(tu.counters().texelFetches, 0u);
+}
+
+// RGBA mode divides (R, G, B) by A before the lookup (SGIX_pixel_texture: q = A). With a
+// 16×16 texture whose texel (x, y) holds (16x, 16y) and A = 128, pixel R = 4(2m + 1)
+// reads s = R/A = (2m + 1)/32, texel ⌊16s⌋ = m — half a texel from either edge, so float
+// rounding cannot move it. Without the divide the lookup lands elsewhere.
+TEST(PixelTexture, RgbaModeDividesByAlphaBeforeTheLookup) {
+    const Profile& p = profile(ProfileId::SgiOctaneMxe);
+    TextureMemory mem(p);
+    auto id = makeRgba8(mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 16, 16, 1, 1, 1},
+                        [](int, int, int x, int y, int, int) { return Rgba8{uint8_t(16 * x), uint8_t(16 * y), 7, 255}; });
+    TextureUnits tu;
+    tu.setTexture(0, id);
+    SamplerState s;
+    s.magFilter = s.minFilter = FilterMode::Nearest;
+    s.address = {AddressMode::ClampToEdge, AddressMode::ClampToEdge, AddressMode::ClampToEdge,
+                 AddressMode::ClampToEdge};
+    tu.setSampler(0, s);
+    tu.setPixelTexture({true, PixelTexGenMode::Rgba, 0});
+    std::vector<Rgba8> row, want;
+    for (int m = 0; m < 16; ++m)
+        for (int n = 0; n < 16; n += 5) {
+            row.push_back({uint8_t(4 * (2 * m + 1)), uint8_t(4 * (2 * n + 1)), 200, 128});
+            want.push_back({uint8_t(16 * m), uint8_t(16 * n), 7, 255});
+        }
+    tu.applyPixelTransfer(row);
+    EXPECT_EQ(row, want);
 }
 
 TEST(PixelTexture, QAtOrBelowZeroGivesTheBorderColour) {

@@ -68,6 +68,55 @@ TEST(DeviceTextured, OneToOneQuadReproducesTexels) {
     }
 }
 
+// Coordinate generation of pre-transformed vertices, which have no eye space (pinned in
+// docs/hardware.md, "Coordinate generation"): the object and eye position are the submitted
+// (x, y, z, RHW) — window pixels, window depth and RHW — and the normal the submitted one as
+// it is (not normalized). Seen in the interpolated coordinates of a quad (the fragment
+// observer), with the same RHW at every vertex so that the interpolation is affine.
+TEST(DeviceTextured, PretransformedTexGenSeesTheSubmittedWindowPosition) {
+    struct Case {
+        ProfileId profile;
+        TexGenMode mode;
+        glm::vec4 expect;  // at the centre of pixel (2, 3)
+    };
+    const Case cases[] = {
+        {ProfileId::GeForce256, TexGenMode::CameraSpacePosition, {2.5f, 3.5f, 0.25f, 1.0f}},
+        {ProfileId::GeForce256, TexGenMode::CameraSpaceNormal, {0.0f, 0.0f, 2.0f, 1.0f}},
+        // OBJECT_LINEAR's planes over (x, y, z, w) with w the submitted RHW (0.5 here).
+        {ProfileId::SgiOctaneMxe, TexGenMode::ObjectLinear, {2.5f, 3.5f, 0.25f, 0.5f}},
+        {ProfileId::SgiOctaneMxe, TexGenMode::EyeLinear, {2.5f, 3.5f, 0.25f, 0.5f}},
+    };
+    for (const Case& c : cases) {
+        const Profile& p = profile(c.profile);
+        TextureMemory mem(p);
+        auto tex = makeRgba8(mem, {TextureTarget::Texture2D, TexelFormat::RGBA8, 2, 2, 1, 1, 1},
+                             [](int, int, int, int, int, int) { return Rgba8{255, 255, 255, 255}; });
+        Device dev(p, 8, 8, DepthFormat::None, {Path::Reference, 1});
+        dev.setState(plain());
+        auto& tu = dev.textureUnits();
+        tu.setTexture(0, tex);
+        StageState st;
+        st.colorOp = TextureOp::Modulate;
+        st.alphaOp = TextureOp::Modulate;
+        tu.setStage(0, st);
+        TexGenState g;
+        g.mode = c.mode;  // default planes: s = x, t = y, r = z, q = w
+        tu.setTexGen(0, g);
+        glm::vec4 seen(-1.0f);
+        dev.setFragmentObserver([&](const FragmentQuad& q, uint8_t) {
+            if (q.x == 2 && q.y == 2) seen = q.texCoord[0][2];  // pixel 2 of the quad: (2, 3)
+        });
+        std::vector<Vertex> tri = {tv(0, 0, {}), tv(8, 0, {}), tv(0, 8, {})};
+        for (Vertex& v : tri) {
+            v.position.z = 0.25f;
+            v.position.w = 0.5f;  // RHW
+            v.normal = {0.0f, 0.0f, 2.0f};
+        }
+        dev.draw(Primitive::TriangleList, VertexSpace::Pretransformed, tri);
+        for (int k = 0; k < 4; ++k) EXPECT_NEAR(seen[k], c.expect[k], 1e-5f) << int(c.mode) << " component " << k;
+    }
+}
+
 TEST(DeviceTextured, PixelTextureDrawPixelsThroughIdentityLeavesImage) {
     const Profile& p = profile(ProfileId::SgiOctaneMxe);
     TextureMemory mem(p);

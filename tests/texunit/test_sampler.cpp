@@ -203,6 +203,18 @@ TEST(SamplerLod, LinearMipWeightsAndClamps) {
     s.baseLevel = 3;
     EXPECT_EQ(chooseLevels(*fx.tex, s, -100).level0, 3);
     EXPECT_EQ(chooseLevels(*fx.tex, s, 256).level0, 4);  // λ counts from the base level
+    // Out of range (pinned, docs/hardware.md): a MAX_LEVEL past the 7 levels is the last,
+    // one below the base is the base; a negative BASE_LEVEL is 0, one past the last the last.
+    EXPECT_EQ(chooseLevels(*fx.tex, s, 100 * 256).level0, 6);
+    s.maxLevel = 1;
+    EXPECT_EQ(chooseLevels(*fx.tex, s, 100 * 256).level0, 3);
+    s.maxLevel = 1000;
+    s.baseLevel = -5;
+    EXPECT_EQ(chooseLevels(*fx.tex, s, -100).level0, 0);
+    s.baseLevel = 9;
+    EXPECT_EQ(chooseLevels(*fx.tex, s, -100).level0, 6);
+    EXPECT_EQ(chooseLevels(*fx.tex, s, 3 * 256).level0, 6);
+    s.baseLevel = 3;
     // MIN_LOD / MAX_LOD clamp λ after the bias.
     SamplerState c2;
     c2.minLod = 1.0f;

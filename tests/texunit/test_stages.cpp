@@ -242,6 +242,46 @@ TEST(StageEvaluate, ColourAndAlphaOpsTogether) {
     EXPECT_EQ(evaluateStage(s, in), (Rgba8{255, 255, 0, 255}));
 }
 
+// The alpha meanings docs/hardware.md pins where Direct3D 7 says nothing (docs/trace-format.md
+// refers to them): ALPHAOP DISABLE and PREMODULATE pass CURRENT's alpha, and the alpha scale
+// still applies to it; DOTPRODUCT3 as ALPHAOP is the dot product of the alpha arguments'
+// RGB; DOTPRODUCT3 as COLOROP writes its result to alpha unscaled, whatever ALPHAOP and
+// either scale say. Hand-computed from inputs(): CURRENT = (10, 20, 30 | 40).
+TEST(StageEvaluate, PinnedAlphaMeaningsOfDisablePremodulateAndDotProduct3) {
+    const StageInputs in = inputs();
+    StageState s;
+    s.colorOp = TextureOp::SelectArg1;
+    s.colorArg1 = arg::Diffuse;
+    for (TextureOp passes : {TextureOp::Disable, TextureOp::PreModulate}) {
+        s.alphaOp = passes;
+        s.alphaScaleShift = 0;
+        EXPECT_EQ(evaluateStage(s, in), (Rgba8{200, 100, 50, 40})) << textureOpName(passes);
+        s.alphaScaleShift = 1;
+        EXPECT_EQ(evaluateStage(s, in).a, 80) << textureOpName(passes);
+        s.alphaScaleShift = 2;
+        EXPECT_EQ(evaluateStage(s, in).a, 160) << textureOpName(passes);
+    }
+    // DOTPRODUCT3 as ALPHAOP: DIFFUSE (200, 100, 50) · TEXTURE (255, 128, 0), both as
+    // 2x − 255: 145·255 + (−55)·1 + (−155)·(−255) = 76,445, /255 = 299.8 → clamped 255;
+    // with TFACTOR (9, 8, 7): (−237)(145) + (−239)(−55) + (−241)(−155) = 16,135 → 63.
+    s.alphaScaleShift = 0;
+    s.alphaOp = TextureOp::DotProduct3;
+    s.alphaArg1 = arg::Diffuse;
+    s.alphaArg2 = arg::Texture;
+    EXPECT_EQ(evaluateStage(s, in), (Rgba8{200, 100, 50, 255}));
+    s.alphaArg2 = arg::TFactor;
+    EXPECT_EQ(evaluateStage(s, in).a, 63);
+    // DOTPRODUCT3 as COLOROP: TFACTOR · DIFFUSE = 63 into r, g, b (scaled) and a (not).
+    s.colorOp = TextureOp::DotProduct3;
+    s.colorArg1 = arg::TFactor;
+    s.colorArg2 = arg::Diffuse;
+    s.alphaOp = TextureOp::SelectArg1;
+    s.alphaArg1 = arg::Current;
+    s.colorScaleShift = 1;
+    s.alphaScaleShift = 2;
+    EXPECT_EQ(evaluateStage(s, in), (Rgba8{126, 126, 126, 63}));
+}
+
 // OpenGL 1.2 Tables 3.18/3.19 written out independently (Cf current, Ct texture, Cc env).
 Rgba8 glEnv(TexEnvMode mode, BaseFormat base, Rgba8 f, Rgba8 t, Rgba8 c) {
     auto mul = [](int a, int b) { return uint8_t(rnd(a * b / 255.0)); };

@@ -125,8 +125,9 @@ TEST(TextureUnits, ValidateAgainstProfiles) {
     // D3DTOP_LERP is Direct3D 8; colour-only ops refuse to be ALPHAOPs.
     tu.setStage(0, op(TextureOp::Lerp));
     EXPECT_THROW(tu.validate(fx.gf), UnsupportedFeature);
-    tu.setStage(0, op(TextureOp::Modulate, arg::Texture, arg::Current, TextureOp::ModulateAlphaAddColor));
-    EXPECT_THROW(tu.validate(fx.gf), InvalidState);
+    // (refused as the stage is set, so that no state the device holds has one)
+    EXPECT_THROW(tu.setStage(0, op(TextureOp::Modulate, arg::Texture, arg::Current, TextureOp::ModulateAlphaAddColor)),
+                 InvalidState);
     // An incomplete texture cannot be drawn with.
     auto partial = fx.mem->create({TextureTarget::Texture2D, TexelFormat::RGBA8, 4, 4, 1, 1, 3});
     fx.mem->upload(*partial, 0, 0, std::vector<uint8_t>(64));

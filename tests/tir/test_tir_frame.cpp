@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "raycore/accel.h"
+#include "raycore/shapes.h"
 #include "raycore/tracer_refract_tir.h"
 #include "tir_renderer.h"
 
@@ -140,6 +141,38 @@ TEST(TirReference, AWhiteWorldThroughClearGlassIsWhite) {
     for (int y = 0; y < 48; ++y)
         for (int x = 0; x < 48; ++x) black += ti.color.rgb(x, y) == glm::vec3(0.0f) ? 1 : 0;
     EXPECT_GT(black, 0);
+}
+
+// A 45°-45°-90° glass prism is a retroreflector: a ray entering the hypotenuse head-on
+// meets each leg at 45°, past the critical angle sin⁻¹(1/1.5) = 41.8°, reflects totally
+// twice and leaves through the hypotenuse again: three segments, two reflections, on a
+// path traced by hand: in at (0.7, 0.3), TIR at (0.4, 0) and (0, 0.4), out at (0.3, 0.7).
+TEST(TirReference, ARightAnglePrismReflectsTotallyTwice) {
+    ray::Scene scene;
+    scene.name = "prism-retroreflector";
+    ray::Material glass;
+    glass.name = "glass";
+    glass.type = ray::MaterialType::Glass;
+    glass.ior = 1.5f;
+    const uint32_t m = scene.addMaterial(glass);
+    scene.addObject("prism", scene.addMesh(ray::makeExtrusion({{0, 0}, {1, 0}, {0, 1}}, 1.0f)), m);
+    scene.environment.kind = ray::EnvironmentKind::Gradient;
+    ray::Accel accel(scene);
+    const glm::vec3 in(-0.70710678f, -0.70710678f, 0.0f);
+    for (float along : {0.2f, 0.35f, 0.5f, 0.65f, 0.8f}) {  // where the ray meets the hypotenuse
+        ray::Ray r;
+        r.dir = in;
+        r.origin = glm::vec3(along, 1.0f - along, 0.1f) - in * 2.0f;
+        ray::RayCounts counts;
+        ray::TirPathOptions o;
+        o.refractor = 0;
+        const ray::TirPath p = ray::traceTirPath(accel, nullptr, r, o, counts);
+        EXPECT_TRUE(p.hitRefractor) << along;
+        EXPECT_EQ(p.tirCount, 2) << along;
+        EXPECT_EQ(p.segments, 3) << along;
+        // It leaves back towards where it came from: the gradient's colour of −in.
+        EXPECT_EQ(p.color, scene.environment.lookup(-in)) << along;
+    }
 }
 
 }  // namespace

@@ -99,6 +99,58 @@ TEST(TraceRecorder, XyzDiffuseDrawsAreRecordedAsTheirVertices) {
     EXPECT_NE(framebufferHash(blank.framebuffer()), hash);
 }
 
+TEST(TraceRecorder, SixteenBitIndicesThroughA65536EntryTableReplayExactly) {
+    // Heidrich et al. 1999 §5 on sgi-octane-mxe: an I16 index texture drawn through a
+    // 65,536-entry colour table, and a pixel transfer through the same unit. The trace
+    // keeps the 16-bit values (not their 8-bit expansion) and the whole table, so the
+    // replay picks the same entries.
+    const Profile& p = profile(ProfileId::SgiOctaneMxe);
+    Device dev(p, 16, 16, DepthFormat::None, {Path::Fast, 1});
+    auto rec = std::make_shared<TraceRecorder>();
+    dev.setRecorder(rec);
+    tex::TextureMemory mem(p);
+    auto t = mem.create({tex::TextureTarget::Texture2D, tex::TexelFormat::I16, 4, 4, 1, 1, 1});
+    std::vector<uint8_t> bytes;
+    for (int i = 0; i < 16; ++i) {
+        const uint16_t v = uint16_t(4099 * i + 257);  // neighbours differ in the low byte too
+        bytes.push_back(uint8_t(v & 0xff));
+        bytes.push_back(uint8_t(v >> 8));
+    }
+    mem.upload(*t, 0, 0, bytes);
+    auto table = std::make_shared<tex::ColorTable>();
+    table->format = tex::BaseFormat::Rgba;
+    for (uint32_t i = 0; i < 65536; ++i)
+        table->entries.push_back({uint8_t(i), uint8_t(i >> 8), uint8_t(i * 13), 255});
+    tex::TextureUnits& tu = dev.textureUnits();
+    tu.setTexture(0, t);
+    tex::SamplerState ss;
+    ss.magFilter = ss.minFilter = tex::FilterMode::Nearest;
+    tu.setSampler(0, ss);
+    tu.setColorTable(0, table);
+    tu.setStage(0, tex::texEnvStage(tex::TexEnvMode::Replace, tex::BaseFormat::Rgba));
+    PipelineState s;
+    s.cull = CullMode::None;
+    s.depthTest = 0;
+    dev.setState(s);
+    std::vector<Vertex> quad(6);
+    const glm::vec2 corners[6] = {{0, 0}, {16, 0}, {16, 16}, {0, 0}, {16, 16}, {0, 16}};
+    for (int i = 0; i < 6; ++i) {
+        quad[size_t(i)].position = glm::vec4(corners[i], 0.5f, 1.0f);
+        quad[size_t(i)].tex[0] = glm::vec4(corners[i] / 16.0f, 0.0f, 1.0f);
+    }
+    dev.draw(Primitive::TriangleList, VertexSpace::Pretransformed, quad);
+    tu.setPixelTexture({true, tex::PixelTexGenMode::Rgb, 0});
+    std::vector<Rgba8> px(8 * 8);
+    for (size_t i = 0; i < px.size(); ++i) px[i] = {uint8_t(i * 4), uint8_t(255 - i * 4), 0, 200};
+    dev.drawPixels(8, 8, 8, 8, px);
+    dev.setRecorder(nullptr);
+    rec->finish();
+    const std::string hash = framebufferHash(dev.framebuffer());
+    EXPECT_EQ(dev.framebuffer().pixel(0, 0), table->entries[257]);  // texel (0, 0) = 257
+    for (Path path : {Path::Reference, Path::Fast})
+        EXPECT_EQ(framebufferHash(replayTrace(readTrace(rec->bytes()), {path, 2, -1}).framebuffer), hash);
+}
+
 TEST(TraceRecorder, TexturesAreStoredOncePerContent) {
     const Profile& p = profile(ProfileId::GeForce256);
     Device dev(p, 8, 8, DepthFormat::None, {Path::Reference, 1});

@@ -332,9 +332,9 @@ TEST(ProgramTraceReader, AnUnknownProgramIsAnErrorNamingIt) {
     const std::vector<uint8_t> bytes = smallSearchTrace();
     std::vector<Record> rs = split(bytes);
     const size_t d = first(rs, TraceOp::ProgramDraw);
-    rs[d].payload = renamed(rs[d].payload, "tir/final_pass");
+    rs[d].payload = renamed(rs[d].payload, "nowhere/final_pass");
     const std::string e = readError(join(bytes, rs));
-    EXPECT_NE(e.find("program 'tir/final_pass' is not registered"), std::string::npos) << e;
+    EXPECT_NE(e.find("program 'nowhere/final_pass' is not registered"), std::string::npos) << e;
     EXPECT_NE(e.find("bench/binary_search"), std::string::npos) << "lists what is registered: " << e;
 }
 

@@ -188,10 +188,24 @@ struct NearestFloat2D {
 };
 
 
+// Bilinear filtering of a four-channel float cube map (RGBA16F, RGBA32F) whose sampler has
+// LINEAR min and mag filters and no mipmaps: every λ selects the base level and its 2×2
+// footprint on the face the direction selects (clamped to the face's edges), so the fetch
+// needs no level of detail. The tir demo's exit rays read their environment this way, once
+// per fragment; the AVX2 kernel's fetch (quad_program_wide.h: detail::linearCubeFetchAvx2)
+// gives the tap-list reference's sum bit for bit (tests/programmable/).
+struct LinearFloatCube {
+    const glm::vec4* data = nullptr;  // base level, face 0; null: not this case
+    int size = 0;                     // the base level's edge
+    int32_t faceTexels = 0;           // from one face's texels to the next's
+    bool valid() const { return data != nullptr; }
+};
+
 struct BoundUnit {
     const tex::Texture* texture = nullptr;
     tex::SamplerState sampler;
     NearestFloat2D nearest;
+    LinearFloatCube cube;
 };
 
 }  // namespace detail

@@ -322,6 +322,8 @@ inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const ProgramTria
 // The point-sampled fast case of a unit (NearestFloat2D; not valid() when the texture or
 // sampler is not one), resolved once when the unit is bound.
 NearestFloat2D nearestFloat2D(const tex::Texture* texture, const tex::SamplerState& sampler);
+// The bilinear float cube-map case of a unit (LinearFloatCube; not valid() otherwise).
+LinearFloatCube linearFloatCube(const tex::Texture* texture, const tex::SamplerState& sampler);
 
 // The CPU runs AVX2 and RETROGLASS_NO_AVX2 is not set (which keeps the SSE2 kernels, so
 // the tests can hold both to the reference).
@@ -330,7 +332,8 @@ bool programAvx2();
 // Quads per group for programs that run on a QuadGroupContext (quad_program.h): the SSE2
 // kernel, and the AVX2 kernel's QuadGroupWideContext (two quads per 256-bit register; eight
 // quads give the texel loads of four registers to overlap, measured faster than four or
-// twelve).
+// twelve). A triangle's last quads, fewer than a group, run in pairs on the AVX2 kernel
+// (ProgramKernel::shadeQuadPairs) and one by one on the SSE2 kernel.
 constexpr int kGroupQuads = 4;
 constexpr int kWideGroupQuads = 8;
 
@@ -339,9 +342,11 @@ constexpr int kWideGroupQuads = 8;
 template <class FP>
 constexpr bool kIsGroupProgram = kIsQuadProgram<FP> &&
                                  requires(const FP& fp, QuadGroupContext<kGroupQuads>& g,
-                                          QuadGroupWideContext<kWideGroupQuads>& w) {
+                                          QuadGroupWideContext<kWideGroupQuads>& w,
+                                          QuadGroupWideContext<2>& pair) {
                                      fp(g);
                                      fp(w);
+                                     fp(pair);
                                  };
 
 // The quads of a group through the program at once: what shadeQuadLanes does to each, in
@@ -362,7 +367,7 @@ inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const ProgramTria
     g.beginGroup();
     fp(g);
     g.endGroup();
-    if constexpr (std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>) {
+    if constexpr (std::is_same_v<Group, QuadGroupWideContext<N>>) {
         // The counters and depth writes of every quad, then the output merger quad after
         // quad, two whole quads of a plain RGBA8 target at once. The quads' pixels are
         // distinct and the counters are sums and a maximum, so the same bytes and counts
@@ -548,10 +553,37 @@ struct ProgramKernel {
                 }
             }
         }
-        for (int i = 0; i < pending; ++i)
-            shadeQuadLanes(*k.fp, d, t, q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qxs[size_t(i)],
-                           qys[size_t(i)], g.quad(i), c);
+        if constexpr (kWide)
+            shadeQuadPairs<N>(*k.fp, d, t, q, iw, mask, qxs, qys, pending, c);
+        else
+            for (int i = 0; i < pending; ++i)
+                shadeQuadLanes(*k.fp, d, t, q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qxs[size_t(i)],
+                               qys[size_t(i)], g.quad(i), c);
         counters.add(c);
+    }
+
+    // The AVX2 kernel's last quads of a triangle, fewer than a group: two at a time in one
+    // 256-bit register (QuadGroupWideContext<2>), the partner of an odd last quad empty —
+    // covered by no lane, so it runs, fetches and writes nothing. Small triangles leave
+    // most of their quads here (the tir refractor's, about 30 pixels each: more than half
+    // of them), and a pair takes about the time of one quad alone on SSE lanes, whose
+    // search is one chain of dependent steps. Each lane computes what it computes alone,
+    // and the quads are distinct pixels of one triangle: the same bytes and counts.
+    template <int N>
+    static void shadeQuadPairs(const FP& fp, const ProgramDraw& d, const ProgramTriangle& t,
+                               const std::array<QuadVaryings, N>& q, const std::array<std::array<float, 4>, N>& iw,
+                               const std::array<uint32_t, N>& mask, const std::array<int, N>& qxs,
+                               const std::array<int, N>& qys, int pending, ProgramCounters& c) {
+        if (pending == 0) return;
+        QuadGroupWideContext<2> pair;
+        for (int i = 0; i < pending; i += 2) {
+            const size_t a = size_t(i), b = size_t(i + 1 < pending ? i + 1 : i);
+            const std::array<QuadVaryings, 2> q2{q[a], q[b]};
+            const std::array<std::array<float, 4>, 2> iw2{iw[a], iw[b]};
+            const std::array<uint32_t, 2> m2{mask[a], i + 1 < pending ? mask[b] : 0u};
+            const std::array<int, 2> x2{qxs[a], qxs[b]}, y2{qys[a], qys[b]};
+            shadeQuadGroup<FP, 2, QuadGroupWideContext<2>>(fp, d, t, q2, iw2, m2, x2, y2, pair, c);
+        }
     }
 
     // Reference path: the triangle's box pixel by pixel in scanline order; each pixel's

@@ -233,6 +233,158 @@ template <int kRegs>
     }
 }
 
+// The texels of lanes a (low half) and b (high half) of a vec4-per-texel level.
+[[gnu::target("avx2"), gnu::always_inline]] inline __m256 texelPairAvx2(const float* d, uint64_t a, uint64_t b) {
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(d + 4 * size_t(a))), _mm_loadu_ps(d + 4 * size_t(b)), 1);
+}
+
+// The four-channel point fetch (RGBA16F, RGBA32F: a vec4 per texel, NearestFloat2D::data4)
+// of kRegs registers: nearestFetchAvx2's addressing, each lane's texel one 16-byte load, a
+// register's eight texels turned into x, y, z, w registers (a 4×4 transpose in each
+// 128-bit half: lanes 0–3 from the low half's loads, 4–7 from the high half's), then
+// nearestLoads' lanes outside `live` zeroed and 0 + texel for −0. Four-channel maps are
+// what the image-space searches of the tir demo read (normal and depth in one texel):
+// without this they left the wide kernel quad by quad at every step of the search.
+template <int kRegs>
+[[gnu::target("avx2")]] inline void nearestFetch4Avx2(const NearestFloat2D& n, const void* s, const void* t,
+                                                      const void* live, void* x, void* y, void* z, void* w) {
+    const bool shift = n.widthShift >= 0;
+    const __m128i shiftCount = _mm_cvtsi32_si128(n.widthShift);
+    const __m256i width = _mm256_set1_epi32(n.width);
+    const float* d = &n.data4[0].x;
+    const __m256 zero = _mm256_setzero_ps();
+    for (int k = 0; k < kRegs; ++k) {
+        const __m256i xi = nearestAxisAvx2(_mm256_loadu_ps(static_cast<const float*>(s) + 8 * k), n.axisS);
+        const __m256i yi = nearestAxisAvx2(_mm256_loadu_ps(static_cast<const float*>(t) + 8 * k), n.axisT);
+        const __m256i idx = _mm256_add_epi32(xi, shift ? _mm256_sll_epi32(yi, shiftCount) : _mm256_mullo_epi32(yi, width));
+        const __m128i lo = _mm256_castsi256_si128(idx), hi = _mm256_extracti128_si256(idx, 1);
+        const uint64_t p01 = uint64_t(_mm_cvtsi128_si64(lo)), p23 = uint64_t(_mm_extract_epi64(lo, 1));
+        const uint64_t p45 = uint64_t(_mm_cvtsi128_si64(hi)), p67 = uint64_t(_mm_extract_epi64(hi, 1));
+        const __m256 r0 = texelPairAvx2(d, uint32_t(p01), uint32_t(p45)), r1 = texelPairAvx2(d, p01 >> 32, p45 >> 32);
+        const __m256 r2 = texelPairAvx2(d, uint32_t(p23), uint32_t(p67)), r3 = texelPairAvx2(d, p23 >> 32, p67 >> 32);
+        const __m256 xy01 = _mm256_unpacklo_ps(r0, r1), zw01 = _mm256_unpackhi_ps(r0, r1);  // x0 x1 y0 y1 | x4 x5 y4 y5
+        const __m256 xy23 = _mm256_unpacklo_ps(r2, r3), zw23 = _mm256_unpackhi_ps(r2, r3);
+        const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
+        const __m256 c[4] = {_mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(1, 0, 1, 0)),
+                             _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(3, 2, 3, 2)),
+                             _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(1, 0, 1, 0)),
+                             _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(3, 2, 3, 2))};
+        void* const out[4] = {x, y, z, w};
+        for (int j = 0; j < 4; ++j)
+            _mm256_storeu_ps(static_cast<float*>(out[j]) + 8 * k, _mm256_add_ps(_mm256_and_ps(c[j], m), zero));
+    }
+}
+
+// One axis of the bilinear footprint on eight lanes: tex::detail::axisFootprint under
+// CLAMP_TO_EDGE with LINEAR — u = c·n (NaN → 0, clamped to ±2^22), ⌊u·2^8⌋ − ½·2^8 in
+// 8-bit fixed point, i0 its floor over 2^8 (arithmetic shift), α its low 8 bits; texels i0
+// and i0 + 1 clamped to [0, n − 1], weights 2^8 − α and α.
+[[gnu::target("avx2"), gnu::always_inline]] inline void linearAxisAvx2(__m256 c, int n, __m256i& i0, __m256i& i1,
+                                                                      __m256i& w0, __m256i& w1) {
+    __m256 u = _mm256_mul_ps(c, _mm256_set1_ps(float(n)));
+    u = _mm256_and_ps(u, _mm256_cmp_ps(u, u, _CMP_ORD_Q));  // NaN → 0
+    u = _mm256_min_ps(_mm256_max_ps(u, _mm256_set1_ps(-4194304.0f)), _mm256_set1_ps(4194304.0f));
+    const __m256i fixed = _mm256_sub_epi32(
+        _mm256_cvttps_epi32(_mm256_round_ps(_mm256_mul_ps(u, _mm256_set1_ps(256.0f)), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)),
+        _mm256_set1_epi32(128));
+    const __m256i i = _mm256_srai_epi32(fixed, 8), last = _mm256_set1_epi32(n - 1), zero = _mm256_setzero_si256();
+    i0 = _mm256_min_epi32(_mm256_max_epi32(i, zero), last);
+    i1 = _mm256_min_epi32(_mm256_max_epi32(_mm256_add_epi32(i, _mm256_set1_epi32(1)), zero), last);
+    w1 = _mm256_and_si256(fixed, _mm256_set1_epi32(255));
+    w0 = _mm256_sub_epi32(_mm256_set1_epi32(256), w1);
+}
+
+// The eight texels at `idx` as x, y, z, w registers (nearestFetch4Avx2's loads and transpose).
+[[gnu::target("avx2"), gnu::always_inline]] inline void texels4Avx2(const float* d, __m256i idx, __m256 (&v)[4]) {
+    const __m128i lo = _mm256_castsi256_si128(idx), hi = _mm256_extracti128_si256(idx, 1);
+    const uint64_t p01 = uint64_t(_mm_cvtsi128_si64(lo)), p23 = uint64_t(_mm_extract_epi64(lo, 1));
+    const uint64_t p45 = uint64_t(_mm_cvtsi128_si64(hi)), p67 = uint64_t(_mm_extract_epi64(hi, 1));
+    const __m256 r0 = texelPairAvx2(d, uint32_t(p01), uint32_t(p45)), r1 = texelPairAvx2(d, p01 >> 32, p45 >> 32);
+    const __m256 r2 = texelPairAvx2(d, uint32_t(p23), uint32_t(p67)), r3 = texelPairAvx2(d, p23 >> 32, p67 >> 32);
+    const __m256 xy01 = _mm256_unpacklo_ps(r0, r1), zw01 = _mm256_unpackhi_ps(r0, r1);
+    const __m256 xy23 = _mm256_unpacklo_ps(r2, r3), zw23 = _mm256_unpackhi_ps(r2, r3);
+    v[0] = _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(1, 0, 1, 0));
+    v[1] = _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(3, 2, 3, 2));
+    v[2] = _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(1, 0, 1, 0));
+    v[3] = _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(3, 2, 3, 2));
+}
+
+// The bilinear float cube-map fetch (LinearFloatCube) of kRegs registers: what
+// tex::programFetch's fast path computes lane by lane — the face and (s, t) of
+// tex::detail::selectCubeFace (ties X before Y before Z, −0 and NaN as its compares take
+// them, the face centre for a zero or NaN major axis), the footprint of linearAxisAvx2 on
+// both axes, and Σ weight·texel over the taps (x0, y0), (x1, y0), (x0, y1), (x1, y1) in
+// double, in that order from 0, each weight w_x·w_y/2^16 (exact, as is each product of a
+// weight and a float texel in double); then rounded to float. Lanes outside `live` read
+// zero. Every texel index is inside the level whatever the lane, so all are read without a
+// branch.
+template <int kRegs>
+[[gnu::target("avx2")]] inline void linearCubeFetchAvx2(const LinearFloatCube& cube, const void* cx, const void* cy,
+                                                        const void* cz, const void* live, void* x, void* y, void* z,
+                                                        void* w) {
+    const float* d = &cube.data[0].x;
+    const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps(), half = _mm256_set1_ps(0.5f);
+    const __m256 one = _mm256_set1_ps(1.0f);
+    const __m256d scale = _mm256_set1_pd(1.0 / 65536.0);
+    for (int k = 0; k < kRegs; ++k) {
+        const __m256 rx = _mm256_loadu_ps(static_cast<const float*>(cx) + 8 * k);
+        const __m256 ry = _mm256_loadu_ps(static_cast<const float*>(cy) + 8 * k);
+        const __m256 rz = _mm256_loadu_ps(static_cast<const float*>(cz) + 8 * k);
+        // ---- the face: selectCubeFace's branches as selects ----
+        const __m256 ax = _mm256_andnot_ps(sign, rx), ay = _mm256_andnot_ps(sign, ry), az = _mm256_andnot_ps(sign, rz);
+        const __m256 onX = _mm256_and_ps(_mm256_cmp_ps(ax, ay, _CMP_GE_OQ), _mm256_cmp_ps(ax, az, _CMP_GE_OQ));
+        const __m256 onY = _mm256_andnot_ps(onX, _mm256_cmp_ps(ay, az, _CMP_GE_OQ));
+        const __m256 posX = _mm256_cmp_ps(rx, zero, _CMP_GE_OQ), posY = _mm256_cmp_ps(ry, zero, _CMP_GE_OQ);
+        const __m256 posZ = _mm256_cmp_ps(rz, zero, _CMP_GE_OQ);
+        const __m256 nx = _mm256_xor_ps(rx, sign), ny = _mm256_xor_ps(ry, sign), nz = _mm256_xor_ps(rz, sign);
+        // The table's (sc, tc, ma): ±X (∓z, −y, x), ±Y (x, ±z, y), ±Z (±x, −y, z).
+        const __m256 sc = _mm256_blendv_ps(_mm256_blendv_ps(_mm256_blendv_ps(nx, rx, posZ), rx, onY),
+                                           _mm256_blendv_ps(rz, nz, posX), onX);
+        const __m256 tc = _mm256_blendv_ps(ny, _mm256_blendv_ps(nz, rz, posY), onY);
+        const __m256 ma = _mm256_blendv_ps(_mm256_blendv_ps(rz, ry, onY), rx, onX);
+        const __m256 faceF = _mm256_blendv_ps(
+            _mm256_blendv_ps(_mm256_blendv_ps(_mm256_set1_ps(5.0f), _mm256_set1_ps(4.0f), posZ),
+                             _mm256_blendv_ps(_mm256_set1_ps(3.0f), _mm256_set1_ps(2.0f), posY), onY),
+            _mm256_blendv_ps(one, zero, posX), onX);
+        const __m256i face = _mm256_cvttps_epi32(faceF);
+        const __m256 a = _mm256_andnot_ps(sign, ma);
+        const __m256 onFace = _mm256_cmp_ps(a, zero, _CMP_GT_OQ);
+        const __m256 s = _mm256_blendv_ps(half, _mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(sc, a), one), half), onFace);
+        const __m256 t = _mm256_blendv_ps(half, _mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(tc, a), one), half), onFace);
+        // ---- the footprint: the four taps' indices and weights ----
+        __m256i x0, x1, wx0, wx1, y0, y1, wy0, wy1;
+        linearAxisAvx2(s, cube.size, x0, x1, wx0, wx1);
+        linearAxisAvx2(t, cube.size, y0, y1, wy0, wy1);
+        const __m256i base = _mm256_mullo_epi32(face, _mm256_set1_epi32(cube.faceTexels));
+        const __m256i n = _mm256_set1_epi32(cube.size);
+        const __m256i row0 = _mm256_add_epi32(base, _mm256_mullo_epi32(y0, n));
+        const __m256i row1 = _mm256_add_epi32(base, _mm256_mullo_epi32(y1, n));
+        const __m256i idx[4] = {_mm256_add_epi32(row0, x0), _mm256_add_epi32(row0, x1), _mm256_add_epi32(row1, x0),
+                                _mm256_add_epi32(row1, x1)};
+        const __m256i wt[4] = {_mm256_mullo_epi32(wx0, wy0), _mm256_mullo_epi32(wx1, wy0), _mm256_mullo_epi32(wx0, wy1),
+                               _mm256_mullo_epi32(wx1, wy1)};
+        // ---- Σ weight·texel in double: lanes 0–3 and 4–7 of each channel ----
+        __m256d acc[4][2];
+        for (int c = 0; c < 4; ++c) acc[c][0] = acc[c][1] = _mm256_setzero_pd();
+        for (int tap = 0; tap < 4; ++tap) {
+            __m256 v[4];
+            texels4Avx2(d, idx[tap], v);
+            const __m256d wlo = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(wt[tap])), scale);
+            const __m256d whi = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(wt[tap], 1)), scale);
+            for (int c = 0; c < 4; ++c) {
+                acc[c][0] = _mm256_add_pd(acc[c][0], _mm256_mul_pd(wlo, _mm256_cvtps_pd(_mm256_castps256_ps128(v[c]))));
+                acc[c][1] = _mm256_add_pd(acc[c][1], _mm256_mul_pd(whi, _mm256_cvtps_pd(_mm256_extractf128_ps(v[c], 1))));
+            }
+        }
+        const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
+        void* const out[4] = {x, y, z, w};
+        for (int c = 0; c < 4; ++c) {
+            const __m256 f = _mm256_set_m128(_mm256_cvtpd_ps(acc[c][1]), _mm256_cvtpd_ps(acc[c][0]));
+            _mm256_storeu_ps(static_cast<float*>(out[c]) + 8 * k, _mm256_and_ps(f, m));
+        }
+    }
+}
+
 }  // namespace detail
 
 // QuadGroupContext with wide lane types: the same interface and the same per-quad calls,
@@ -307,7 +459,7 @@ class QuadGroupWideContext {
         constexpr int kRegs = WideLanes<N>::kRegs;
         const detail::BoundUnit& b = quads_[0].unit(unit);
         const detail::NearestFloat2D& n = b.nearest;
-        if (!(n.lanes4 && n.data1 && quads_[0].setup_->path == Path::Fast)) [[unlikely]] {
+        if (!((n.lanes4 || b.cube.valid()) && quads_[0].setup_->path == Path::Fast)) [[unlikely]] {
             // Copied on this branch only, into storage the compiler cannot move stores
             // to (a thread's own): the caller's temporaries are only read, so they stay
             // in registers on the fast path.
@@ -322,12 +474,24 @@ class QuadGroupWideContext {
             }
             return a.run(quads_, unit);
         }
+        // Texels read per lane: one point-sampled, four for the bilinear cube map.
+        const int32_t taps = n.lanes4 ? 1 : 4;
         Mask live = live_;
         if constexpr (kAllLanes) {
-            ++allFetches_;
+            allFetches_ += taps;
         } else {
             live = live & m;
-            for (int k = 0; k < kRegs; ++k) fetches_.r[k] -= live.r[k];  // −1 per fetching lane
+            for (int k = 0; k < kRegs; ++k) fetches_.r[k] -= live.r[k] * taps;  // −taps per fetching lane
+        }
+        if (!n.lanes4) {
+            Vec4 r;
+            detail::linearCubeFetchAvx2<kRegs>(b.cube, c.x.r, c.y.r, c.z.r, live.r, r.x.r, r.y.r, r.z.r, r.w.r);
+            return r;
+        }
+        if (n.data4) {
+            Vec4 r;
+            detail::nearestFetch4Avx2<kRegs>(n, c.x.r, c.y.r, live.r, r.x.r, r.y.r, r.z.r, r.w.r);
+            return r;
         }
         Float t, one;
         detail::nearestFetchAvx2<kRegs>(n, c.x.r, c.y.r, live.r, t.r);
@@ -340,8 +504,8 @@ class QuadGroupWideContext {
         for (int k = 0; k < Mask::kRegs; ++k) fetches_.r[k] += live_.r[k] & (I{} + allFetches_);
         allFetches_ = 0;
     }
-    // Quad by quad: filtered samplers, four-channel textures, non-power-of-two WRAP, the
-    // reference path.
+    // Quad by quad: filtered samplers other than the bilinear float cube map, non-power-of-two
+    // WRAP, the reference path.
     using SlowArgs = detail::QuadByQuadSample<Vec4, Float, Mask>;
     template <class Fn>
     Vec4 each(Fn f) const {

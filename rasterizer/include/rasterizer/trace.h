@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <span>
@@ -262,6 +263,13 @@ struct ReplayOptions {
     Path path = Path::Fast;
     int threads = 0;
     int stopAfterPass = -1;  // >= 0: stop when pass K (counted from 0 over the trace) ends
+    // > 0: replay with this many subpixel bits instead of the profile's (a fixed-function
+    // trace only). Not an emulation of any machine: `retroglass conform` replays with a
+    // peer's precision to show which differences the profile's snapping explains.
+    int subpixelBits = 0;
+    // Called for every rasterized 2×2 quad of a fixed-function trace
+    // (Device::setFragmentObserver): which pixels a documented choice decides.
+    std::function<void(const tex::FragmentQuad&, uint8_t passed)> fragmentObserver = nullptr;
 };
 
 struct ReplayResult {

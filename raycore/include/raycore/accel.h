@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "raycore/camera.h"
@@ -26,6 +27,22 @@ struct Hit {
     bool valid() const { return object != kNoHit; }
 };
 
+// How an Accel is built. countTriangleTests makes the counting twin of 000 §6's table
+// ("triangle intersection tests", hits and misses alike): every object becomes an Embree
+// user geometry whose intersection callback tests one triangle (Möller–Trumbore, float)
+// and counts it, so the same queries through the same BVH builder report how many
+// ray/triangle tests they cost. Embree's own triangle kernels have no counter. The twin is
+// for counting only: it is several times slower, is never timed, and its hits may differ
+// from the watertight kernels' in the last bit (allIntersections is refused on it).
+struct AccelOptions {
+    bool countTriangleTests = false;
+};
+
+namespace detail {
+struct CountingMesh;
+struct TriangleTestCounter;
+}  // namespace detail
+
 // A hit resolved to surface quantities.
 struct SurfacePoint {
     glm::vec3 p{0.0f};
@@ -41,7 +58,7 @@ struct SurfacePoint {
 // them); the scene must outlive it. All queries are const and thread-safe.
 class Accel {
   public:
-    explicit Accel(const Scene& scene);
+    explicit Accel(const Scene& scene, AccelOptions options = {});
     ~Accel();
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;
@@ -54,6 +71,12 @@ class Accel {
 
     Hit intersect(const Ray& ray) const;
     bool occluded(const Ray& ray) const;
+
+    // The counting twin (AccelOptions::countTriangleTests): triangle tests since the build
+    // or the last reset, summed over every thread that queried it. 0 on a plain Accel.
+    bool counting() const { return counter_ != nullptr; }
+    uint64_t triangleTests() const;
+    void resetTriangleTests() const;
     // Packets of 8 or 16 (Embree's SIMD ray layouts), for coherent primary rays.
     void intersect8(const Ray* rays, Hit* hits, int count) const;
     void intersect16(const Ray* rays, Hit* hits, int count) const;
@@ -151,6 +174,10 @@ class Accel {
     void resolveStreamAvx2(const RTCRayHit* rh, SurfacePoint* out, size_t n, bool prefetchAhead) const;
     const Scene& scene_;
     RTCScene rtcScene_ = nullptr;
+    // The counting twin's triangles (one per object, the callbacks' user data) and its
+    // per-thread counters (raycore/accel_counting.cpp); empty and null on a plain Accel.
+    std::vector<std::unique_ptr<detail::CountingMesh>> countingMeshes_;
+    std::unique_ptr<detail::TriangleTestCounter> counter_;
     std::vector<TriangleRecord> records_;
     std::vector<Geometry> geometries_;  // per object (Embree geomID)
     float epsilon_ = 1e-4f;

@@ -102,6 +102,12 @@ struct Scene {
     Mesh worldMesh(uint32_t object) const;
 };
 
+// The objects `keep` of `scene` alone, in that order (object i of the result is
+// scene.objects[keep[i]]): 000 §5's local geometry, which the run-time rays trace instead
+// of the whole scene. Meshes, materials, textures, lights and the environment are copied
+// whole so that indices stay valid. rg::Error for an index out of range or an empty list.
+Scene subScene(const Scene& scene, const std::vector<uint32_t>& keep);
+
 // Checks references and meshes. Problems that make rendering impossible (a material or
 // mesh index out of range, NaN positions, an empty mesh, a mesh or object without a
 // triangle of non-zero area or with an extent not finite in float arithmetic, as given or

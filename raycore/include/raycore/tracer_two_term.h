@@ -8,6 +8,7 @@
 // separate images, with their F·G products, the exit radiances and 000 §4.3's confidence.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "raycore/accel.h"
@@ -31,6 +32,35 @@ struct RayPath {
     glm::vec3 radiance{0.0f};   // R or T: radiance along the exit ray
 };
 
+// A path as hybrid rendering needs it at run time (000 §5): no interface points, no
+// radiance (the EMs supply it), fixed size. `events` holds the greedy choices as bits
+// (bit i set: interface i was a refraction; bit 0 is the initial reflection or refraction).
+struct PathSummary {
+    bool valid = false;
+    uint8_t length = 0;         // interfaces crossed: events.size() of the RayPath
+    uint32_t events = 0;
+    glm::vec3 F{0.0f}, G{1.0f};
+    Ray exitRay;
+    friend bool operator==(const PathSummary&, const PathSummary&) = default;
+};
+// Event bits kept: paths longer than this count their extra events in `length` only.
+constexpr int kPathEventBits = 32;
+
+struct LensPaths {
+    PathSummary reflect, refract;  // refract.valid is false for mirrors and under TIR
+};
+
+// 000 §5: the two greedy paths through a vertex of a lens object, traced with the local
+// geometry only. `start` stands for the first hit: the vertex position, its shading normal
+// as ns and ng, the object's material and its index in `local`, frontFace true. The paths
+// are those traceTwoTerm follows from a hit there (the same Fresnel choices and G), minus
+// the exit radiance and the diffuse part, so a path ends when it leaves the object.
+LensPaths traceLensPaths(const Accel& local, glm::vec3 incomingDir, const SurfacePoint& start,
+                         int maxDepth, RayCounts& counts);
+
+// The RayPath of traceTwoTerm summarised (the same validity, events, F, G and exit ray).
+PathSummary summarise(const RayPath& path);
+
 struct TwoTermSample {
     bool hitLens = false;          // the primary ray hit a reflective/refractive object
     uint32_t lensObject = kNoHit;
@@ -47,6 +77,13 @@ TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, int maxDepth,
 TwoTermSample traceTwoTerm(const Accel& accel, const Ray& primary, const Hit& hit,
                            const SurfacePoint& s, int maxDepth, RayCounts& counts);
 
+// traceTwoTerm's two paths from a lens-object hit `hit`/`s` of `incoming` (no direct part);
+// without `shadeExits` the exit radiance is left at 0 (callers shading the environment
+// themselves). A hit on a diffuse object gives two invalid paths.
+void traceLensHit(const Accel& accel, const Ray& incoming, const Hit& hit, const SurfacePoint& s,
+                  int maxDepth, bool shadeExits, RayCounts& counts, RayPath& reflect,
+                  RayPath& refract);
+
 struct TwoTermImages {
     Image reflectTerm, refractTerm;    // R·F_R·G_R and T·F_T·G_T (RGB, sample averages)
     Image reflectFG, refractFG;        // F_R·G_R and F_T·G_T
@@ -55,6 +92,8 @@ struct TwoTermImages {
     Image reflectRadiance, refractRadiance;  // R and T
     Image direct;                      // see TwoTermSample::direct
     Image sum;                         // direct + reflectTerm + refractTerm
+    Image lensCoverage;                // 1 channel: fraction of samples whose primary ray
+                                       // hit a reflective or refractive object
     // 1 − min(θm², θc²)/θc², θm the largest angle between the exit rays of any two
     // samples of the pixel, θc = 5° (000 §4.3). 1 where fewer than two samples have a path.
     Image reflectConfidence, refractConfidence;  // 1 channel
@@ -79,5 +118,53 @@ struct RayPathRecord {
 };
 std::vector<RayPathRecord> compileRayPathRecords(const Accel& accel, const Camera& camera,
                                                  const RenderOptions& options);
+
+// 000 §4.1 for one lens object, as the layered-EM precompute needs it: for every sample of
+// a supersampled image whose incoming ray reaches `lensObject`, the two greedy paths and,
+// per exit ray, the environment it meets.
+//
+//  - Incoming continuation (Figure 4b): the incoming ray is continued through every other
+//    object in front of the lens object, so occluded parts of it (the teapot behind the
+//    cup) still make records; `occluded` says so. Off: only samples whose first hit is
+//    the lens object.
+//  - Outgoing continuation (Figure 4c): every front-facing intersection along the exit
+//    ray with environmental geometry (any object but the lens object itself), nearest
+//    first. Off: the exit ray's first intersection only.
+//  - With `layerOfObject` (object → layer, −1 for none) only the first intersection of
+//    each layer is kept (000 §4.1: "discard all but the first intersection of each
+//    outgoing ray with that layer") and shaded: its colour is the radiance the ray tracer
+//    sees along the exit ray at that point (Whitted, the path's depth). Empty: every hit is
+//    kept, unshaded (the clustering pass). An exit ray meeting nothing records one hit on
+//    object kNoHit at t = +∞ with the environment's radiance as its colour.
+struct LensRecordOptions {
+    uint32_t lensObject = kNoHit;
+    bool incomingContinuation = true;
+    bool outgoingContinuation = true;
+    std::vector<int> layerOfObject;
+};
+struct LensHit {
+    uint32_t object = kNoHit;
+    int layer = -1;
+    float t = 0.0f;
+    glm::vec3 p{0.0f};
+    glm::vec3 color{0.0f};
+};
+struct LensSampleRecord {
+    int x = 0, sx = 0, sy = 0;
+    bool occluded = false;
+    PathSummary path[2];                 // 0 reflection, 1 refraction
+    uint32_t firstHit[2] = {0, 0}, hitCount[2] = {0, 0};  // ranges of LensRecordRow::hits
+};
+// One image row's records, samples in (x, sy, sx) order.
+struct LensRecordRow {
+    int y = 0;
+    std::vector<LensSampleRecord> samples;
+    std::vector<LensHit> hits;
+};
+// Calls `row` once per image row with its records, possibly from several threads at once
+// (each row once; the callee writes only that row's results).
+void compileLensRecords(const Accel& accel, const Camera& camera, const RenderOptions& options,
+                        const LensRecordOptions& lens,
+                        const std::function<void(const LensRecordRow&)>& row);
 
 }  // namespace rg::ray

@@ -33,6 +33,15 @@ uint32_t colorTableIndex(uint8_t v, size_t n);
 // becomes the union of the texture's and the table's (an I8 index texture through an
 // RGBA table is an RGBA texel: VQ codebook decoding).
 Rgba8 applyColorTable(const ColorTable& table, Rgba8 texel);
+
+// The 16-bit index path (I16 textures; Heidrich et al. 1999 §5's 2-byte indices into a
+// 2^16-entry codebook): round(c·(N − 1)) of the 16-bit filtered intensity c = v/65535,
+// ⌊(2·v·(N − 1) + 65535)/131070⌋ exactly; for N = 65536 the index is v itself.
+uint32_t colorTableIndex16(uint16_t v, size_t n);
+// The lookup of an I16 texel v: every component is v, so one index i serves all the
+// table's components (the rows of applyColorTable with T[i]); components the table does
+// not replace keep the 8-bit expansion narrow16(v).
+Rgba8 applyColorTable16(const ColorTable& table, uint16_t v);
 BaseFormat colorTableResultFormat(BaseFormat texture, BaseFormat table);
 
 }  // namespace rg::tex

@@ -31,6 +31,12 @@ enum class TexelFormat : uint8_t {
     Depth16,   // 16-bit unsigned normalized depth
     Depth24,   // 32-bit little-endian word, depth in bits 23..0
     Depth32F,  // IEEE float depth
+    // GL_INTENSITY16: a 16-bit little-endian index, the 2-byte VQ index texture of Heidrich
+    // et al. 1999 §5 (sgi-octane-mxe). Filtered at 16 bits; through a colour table the
+    // filtered value indexes it at 16-bit precision (colorTableIndex16), without one it
+    // expands to (I, I, I, I) with I = round(v·255/65535). Appended last so that the trace
+    // format's enumerator values of the older formats stay as they were.
+    I16,
     Count
 };
 
@@ -57,6 +63,9 @@ bool hasAlpha(BaseFormat b);  // carries A (A, LA, I, RGBA)
 // as the period texture units did: exact x·17 for n = 4; for 5 and 6 bits within one
 // step of x·255/(2^n−1), off its rounding in 4 of 32 and 10 of 64 values.
 Rgba8 expandTexel8(TexelFormat f, const uint8_t* bytes);
+// A 16-bit intensity as the 8-bit stages see it without a colour table:
+// round(v·255/65535) = ⌊(v·255 + 32767)/65535⌋.
+inline uint8_t narrow16(uint32_t v) { return uint8_t((v * 255u + 32767u) / 65535u); }
 // One packed texel → float RGBA (float and depth formats; depth d → (d, d, d, 1)).
 glm::vec4 expandTexelFloat(TexelFormat f, const uint8_t* bytes);
 float halfToFloat(uint16_t h);

@@ -96,6 +96,9 @@ void gatherTaps(const Texture& t, const SamplerState& s, const glm::vec4& coord,
 // round(Σ weight·texel / 2^weightBits) (8-bit formats); float formats blend in float in
 // tap order and convert with floatToRgba8().
 Rgba8 resolveTaps(const Texture& t, const SamplerState& s, const TapList& taps);
+// I16 textures: the 16-bit filtered intensity, round(Σ weight·v / 2^weightBits) with
+// v the stored 16-bit values (a border tap reads the border colour's red as 257·r).
+uint16_t resolveTaps16(const Texture& t, const SamplerState& s, const TapList& taps);
 // The filtered colour in float, for every format (8-bit texels as v/255): for the
 // geforce8800 programmable profile, whose shaders see unclamped float texels.
 glm::vec4 resolveTapsFloat(const Texture& t, const SamplerState& s, const TapList& taps);

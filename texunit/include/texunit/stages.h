@@ -22,6 +22,13 @@ enum class TextureOp : uint8_t {
     Lerp, Count
 };
 std::string_view textureOpName(TextureOp op);
+// The ops Direct3D 7 defines for colour only (D3DTOP_MODULATEALPHA_ADDCOLOR and the other
+// MODULATE…ADD… ops): their formulas mix a colour with an alpha, so as ALPHAOP they mean
+// nothing. TextureUnits::setStage refuses them there, and so does the trace reader.
+constexpr bool colourOnlyOp(TextureOp op) {
+    return op == TextureOp::ModulateAlphaAddColor || op == TextureOp::ModulateColorAddAlpha ||
+           op == TextureOp::ModulateInvAlphaAddColor || op == TextureOp::ModulateInvColorAddAlpha;
+}
 
 // D3DTA_* values exactly: a source in the low bits, modifier flags above.
 namespace arg {

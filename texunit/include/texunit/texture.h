@@ -61,6 +61,12 @@ class Texture {
         return levels_[level].texels8[size_t(face) * levels_[level].count +
                                       index(level, x, y, z, w)];
     }
+    // I16 only: the stored 16-bit value (texel8 holds its 8-bit expansion, narrow16).
+    uint16_t texel16(int level, int face, int x, int y, int z, int w) const {
+        return levels_[level].texels16[size_t(face) * levels_[level].count +
+                                       index(level, x, y, z, w)];
+    }
+    bool is16() const { return desc_.format == TexelFormat::I16; }
     glm::vec4 texelFloat(int level, int face, int x, int y, int z, int w) const {
         const size_t i = size_t(face) * levels_[level].count + index(level, x, y, z, w);
         if (singleChannel_) {
@@ -109,6 +115,7 @@ class Texture {
         std::vector<Rgba8> texels8;       // faces × count (8-bit formats)
         std::vector<glm::vec4> texelsF;   // faces × count (RGBA16F, RGBA32F)
         std::vector<float> texelsR;       // faces × count (R16F, R32F, depth formats)
+        std::vector<uint16_t> texels16;   // faces × count (I16; texels8 holds narrow16)
         std::array<bool, 6> uploaded{};
     };
     struct Pool;

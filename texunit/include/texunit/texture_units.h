@@ -37,6 +37,7 @@ namespace rg::tex {
 namespace detail {
 struct FetchCounter;    // texunit/fetch_counter.h
 struct CompiledStages;  // texunit/filter_quad.h
+struct PixelTransferLut;  // texunit/pixel_texture.cpp
 }
 
 constexpr int kMaxTexCoordSets = 8;
@@ -123,7 +124,15 @@ class TextureUnits {
     PairShader pairShader() const;
     void addFetches(uint64_t n) const;
     // Pixel transfer of one row (SGIX_pixel_texture when enabled; identity otherwise).
-    void applyPixelTransfer(std::span<Rgba8> pixels) const;
+    // The reference path builds each pixel's tap list; the fast path reads per-axis
+    // footprint tables compiled with the state: the same bytes and fetch counts. Rows are
+    // independent, so a caller may transfer several rows at once from many threads.
+    void applyPixelTransfer(std::span<Rgba8> pixels, Path path) const;
+    void applyPixelTransfer(std::span<Rgba8> pixels) const;  // the reference path
+    // The pixel-texture part of validate(): Feature::PixelTexture (rg::UnsupportedFeature
+    // naming the profile), a complete, non-cube texture, 4D and colour-table features.
+    // Device::drawPixels and copyPixels call it when pixel texture is enabled.
+    void validatePixelTexture(const Profile& profile) const;
 
     // ---- configured by applications -------------------------------------------------
     TextureUnits();
@@ -192,6 +201,10 @@ class TextureUnits {
     std::shared_ptr<detail::FetchCounter> fetches_;
     // Immutable once built; copies share it (it points at textures units_ keeps alive).
     std::shared_ptr<const detail::CompiledStages> compiled_;
+    // The pixel-transfer fast path's tables (null: the reference per pixel), rebuilt with
+    // the state like compiled_.
+    std::shared_ptr<const detail::PixelTransferLut> compilePixelTransfer() const;
+    std::shared_ptr<const detail::PixelTransferLut> pixelLut_;
 };
 
 }  // namespace rg::tex

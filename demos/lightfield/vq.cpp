@@ -1,0 +1,314 @@
+// LBG / k-means vector quantization of light fields and their direct rendering through
+// texture colour tables (Heidrich et al. 1999 §5).
+#include "vq.h"
+
+#include <Eigen/Dense>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <random>
+
+#include "core/error.h"
+
+namespace rg::lightfield {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using MatrixF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Block b's samples as floats in codeword order (parity order).
+void gatherBlock(const LightField& lf, const BlockShape& sh, int bi, int bj, int bk, int bl, float* out) {
+    int n = 0;
+    for (int pt = 0; pt < sh.t; ++pt)
+        for (int ps = 0; ps < sh.s; ++ps)
+            for (int pv = 0; pv < sh.v; ++pv)
+                for (int pu = 0; pu < sh.u; ++pu, ++n) {
+                    const uint8_t* p = lf.data.data() + lf.offset(bi * sh.s + ps, bj * sh.t + pt, bk * sh.u + pu, bl * sh.v + pv);
+                    out[3 * n] = p[0];
+                    out[3 * n + 1] = p[1];
+                    out[3 * n + 2] = p[2];
+                }
+}
+
+// Nearest codeword of every row of X (distances by one matrix product per chunk).
+void assign(const MatrixF& X, const MatrixF& C, std::vector<int>& label, int threads) {
+    const Eigen::VectorXf cn = C.rowwise().squaredNorm();
+    constexpr int kChunk = 1024;
+    const int chunks = int((X.rows() + kChunk - 1) / kChunk);
+    tbb::task_arena arena(threads > 0 ? threads : tbb::this_task_arena::max_concurrency());
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, chunks), [&](const tbb::blocked_range<int>& r) {
+            for (int c = r.begin(); c != r.end(); ++c) {
+                const int a = c * kChunk, n = int(std::min<Eigen::Index>(kChunk, X.rows() - a));
+                // ‖x − c‖² − ‖x‖² = ‖c‖² − 2 x·c: the row's minimum is the nearest codeword.
+                MatrixF d = (-2.0f * (X.middleRows(a, n) * C.transpose())).rowwise() + cn.transpose();
+                for (int i = 0; i < n; ++i) {
+                    Eigen::Index k;
+                    d.row(i).minCoeff(&k);
+                    label[size_t(a + i)] = int(k);
+                }
+            }
+        });
+    });
+}
+
+}  // namespace
+
+VqLightField quantize(const LightField& lf, const BlockShape& sh, const VqOptions& o) {
+    if (lf.channels != 3) throw Error("vq: only RGB light fields are quantized");
+    if (lf.slab.S % sh.s || lf.slab.T % sh.t || lf.slab.U % sh.u || lf.slab.V % sh.v)
+        throw Error("vq: the block shape does not divide the slab");
+    if (o.codebookSize < 2 || o.codebookSize > 65536) throw Error("vq: codebook size outside [2, 65536]");
+    VqLightField vq;
+    vq.slab = lf.slab;
+    vq.shape = sh;
+    vq.K = o.codebookSize;
+    const int D = sh.dims();
+    const int64_t N = int64_t(vq.blocksS()) * vq.blocksT() * vq.blocksU() * vq.blocksV();
+    if (N < vq.K) throw Error("vq: " + std::to_string(N) + " blocks for " + std::to_string(vq.K) + " codewords");
+    MatrixF X(N, D);
+    {
+        int64_t b = 0;
+        for (int bj = 0; bj < vq.blocksT(); ++bj)
+            for (int bi = 0; bi < vq.blocksS(); ++bi)
+                for (int bl = 0; bl < vq.blocksV(); ++bl)
+                    for (int bk = 0; bk < vq.blocksU(); ++bk, ++b) gatherBlock(lf, sh, bi, bj, bk, bl, X.row(b).data());
+    }
+    // ---- LBG on a random subset: K distinct blocks to start, then Lloyd iterations --------
+    const auto t0 = Clock::now();
+    std::mt19937_64 rng(o.seed);
+    std::vector<int64_t> order(static_cast<size_t>(N));
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), rng);
+    const int64_t M = std::min<int64_t>(N, std::max<int64_t>(o.trainingBlocks, vq.K));
+    MatrixF T(M, D);
+    for (int64_t i = 0; i < M; ++i) T.row(i) = X.row(order[size_t(i)]);
+    MatrixF C = T.topRows(vq.K);
+    std::vector<int> label(static_cast<size_t>(M));
+    for (int it = 0; it < o.iterations; ++it) {
+        assign(T, C, label, o.threads);
+        MatrixF sum = MatrixF::Zero(vq.K, D);
+        std::vector<int> count(size_t(vq.K), 0);
+        for (int64_t i = 0; i < M; ++i) {
+            sum.row(label[size_t(i)]) += T.row(i);
+            ++count[size_t(label[size_t(i)])];
+        }
+        std::uniform_int_distribution<int64_t> pick(0, M - 1);
+        for (int k = 0; k < vq.K; ++k)
+            C.row(k) = count[size_t(k)] ? MatrixF(sum.row(k) / float(count[size_t(k)])) : MatrixF(T.row(pick(rng)));  // empty cell: a random block
+    }
+    vq.trainSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    // ---- encode every block --------------------------------------------------------------
+    const auto t1 = Clock::now();
+    vq.codebook.resize(size_t(vq.K) * size_t(D));
+    for (int k = 0; k < vq.K; ++k)
+        for (int d = 0; d < D; ++d) vq.codebook[size_t(k) * D + size_t(d)] = uint8_t(std::clamp(std::lround(C(k, d)), 0L, 255L));
+    // Assign against the rounded codebook (what the tables hold).
+    MatrixF Cq(vq.K, D);
+    for (int k = 0; k < vq.K; ++k)
+        for (int d = 0; d < D; ++d) Cq(k, d) = vq.codebook[size_t(k) * D + size_t(d)];
+    std::vector<int> all(static_cast<size_t>(N));
+    assign(X, Cq, all, o.threads);
+    vq.indices.assign(all.begin(), all.end());
+    vq.encodeSeconds = std::chrono::duration<double>(Clock::now() - t1).count();
+    return vq;
+}
+
+LightField decode(const VqLightField& vq) {
+    LightField lf;
+    lf.slab = vq.slab;
+    lf.channels = 3;
+    lf.data.resize(vq.slab.samples() * 3);
+    const int D = vq.shape.dims();
+    for (int j = 0; j < vq.slab.T; ++j)
+        for (int i = 0; i < vq.slab.S; ++i)
+            for (int l = 0; l < vq.slab.V; ++l)
+                for (int k = 0; k < vq.slab.U; ++k) {
+                    const size_t b = vq.blockIndex(i / vq.shape.s, j / vq.shape.t, k / vq.shape.u, l / vq.shape.v);
+                    const int idx = vq.indices[b];
+                    if (idx >= vq.K)
+                        throw Error("vq: block " + std::to_string(b) + " has codebook index " + std::to_string(idx) +
+                                    ", outside the codebook of " + std::to_string(vq.K));
+                    const uint8_t* c = vq.codebook.data() + size_t(idx) * D + size_t(3 * vq.parity(i, j, k, l));
+                    std::copy(c, c + 3, lf.data.begin() + std::ptrdiff_t(lf.offset(i, j, k, l)));
+                }
+    return lf;
+}
+
+VqTextures::VqTextures(std::shared_ptr<tex::TextureMemory> memory, const VqLightField& vq) : vq_(&vq) {
+    const Profile& p = memory->profile();
+    p.require(Feature::TextureColorTable, "VQ codebook decoding");
+    p.requireLimit("texture colour table size (the VQ codebook)", vq.K, p.colorTableSize);
+    for (size_t b = 0; b < vq.indices.size(); ++b)
+        if (vq.indices[b] >= vq.K)
+            throw Error("vq: block " + std::to_string(b) + " has codebook index " + std::to_string(vq.indices[b]) +
+                        ", outside the codebook of " + std::to_string(vq.K));
+    const bool wide = vq.indexBytes() == 2;
+    const int bu = vq.blocksU(), bv = vq.blocksV();
+    for (int bj = 0; bj < vq.blocksT(); ++bj)
+        for (int bi = 0; bi < vq.blocksS(); ++bi) {
+            auto t = memory->create({tex::TextureTarget::Texture2D, wide ? tex::TexelFormat::I16 : tex::TexelFormat::I8, bu, bv, 1, 1, 1});
+            std::vector<uint8_t> bytes;
+            bytes.reserve(size_t(bu) * bv * 2);
+            for (int bl = 0; bl < bv; ++bl)
+                for (int bk = 0; bk < bu; ++bk) {
+                    // The index as the texture holds it: 16 bits (N = K ≤ 65536: the table
+                    // index round(v/65535·(N − 1)) must give the index back, so v is scaled),
+                    // or 8 bits the same way.
+                    const uint32_t idx = vq.indices[vq.blockIndex(bi, bj, bk, bl)];
+                    if (wide) {
+                        const uint32_t v = vq.K == 65536 ? idx : uint32_t((uint64_t(idx) * 65535 * 2 + (vq.K - 1)) / (2 * uint64_t(vq.K - 1)));
+                        bytes.push_back(uint8_t(v & 0xff));
+                        bytes.push_back(uint8_t(v >> 8));
+                    } else {
+                        bytes.push_back(uint8_t((idx * 255 * 2 + uint32_t(vq.K - 1)) / (2 * uint32_t(vq.K - 1))));
+                    }
+                }
+            memory->upload(*t, 0, 0, bytes);
+            textures_.push_back(std::move(t));
+        }
+    const int D = vq.shape.dims();
+    for (int parity = 0; parity < vq.shape.samples(); ++parity) {
+        auto table = std::make_shared<tex::ColorTable>();
+        table->format = tex::BaseFormat::Rgba;
+        table->entries.resize(size_t(vq.K));
+        for (int k = 0; k < vq.K; ++k) {
+            const uint8_t* c = vq.codebook.data() + size_t(k) * D + size_t(3 * parity);
+            table->entries[size_t(k)] = {c[0], c[1], c[2], 255};
+        }
+        tables_.push_back(std::move(table));
+    }
+    // Fig. 5's texture: 2×2, exactly one texel one (texel (0, 0)); the parity is a shift.
+    basis_ = memory->create({tex::TextureTarget::Texture2D, tex::TexelFormat::A8, 2, 2, 1, 1, 1});
+    const uint8_t one[4] = {255, 0, 0, 0};
+    memory->upload(*basis_, 0, 0, one);
+}
+
+uint64_t VqTextures::textureBytes() const {
+    uint64_t b = basis_->bytes();
+    for (const auto& t : textures_) b += t->bytes();
+    return b;
+}
+
+VqStats renderVq(raster::Device& dev, const VqTextures& tx, const VqLightField& vq, const ray::Camera& camera) {
+    const LightSlab& s = vq.slab;
+    const BlockShape& sh = vq.shape;
+    const int w = dev.framebuffer().width(), h = dev.framebuffer().height();
+    dev.setTransforms(glm::mat4(1.0f), viewMatrix(camera), projectionMatrix(camera, w, h));
+    dev.setViewport({0, 0, w, h, 0.0f, 1.0f});
+    dev.clear(true, {0, 0, 0, 0}, false, 1.0f);
+    tex::TextureUnits& tu = dev.textureUnits();
+    tex::SamplerState nearest;
+    nearest.magFilter = nearest.minFilter = tex::FilterMode::Nearest;
+    nearest.address = {tex::AddressMode::ClampToEdge, tex::AddressMode::ClampToEdge, tex::AddressMode::ClampToEdge,
+                       tex::AddressMode::ClampToEdge};
+    tex::SamplerState basisSampler;  // LINEAR, WRAP: the 2×2 texture replicated
+    tex::TexGenState tg;
+    tg.projected = true;
+    tu.setTexGen(0, tg);
+    const tex::BaseFormat decoded = tex::colorTableResultFormat(tex::BaseFormat::Intensity, tex::BaseFormat::Rgba);
+    VqStats st;
+    auto frags = [&] { return dev.counters().fragmentsGenerated; };
+    // Eye points grouped by (s, t) parity so each table is loaded once per group.
+    const int groups = sh.s * sh.t, uvParities = sh.u * sh.v;
+    std::vector<raster::Vertex> verts;
+    for (int g = 0; g < groups; ++g)
+        for (int q = 0; q < uvParities; ++q) {
+            const int pu = q % sh.u, pv = q / sh.u;
+            const int parity = ((g / sh.s) * sh.s + g % sh.s) * uvParities + q;
+            // A table load is new contents (the parity's table); the basis pass only turns the
+            // table off (glDisable(TEXTURE_COLOR_TABLE_SGI)) and back on, keeping them.
+            const tex::ColorTable* loaded = nullptr;
+            for (int j = g / sh.s; j < s.T; j += sh.t)
+                for (int i = g % sh.s; i < s.S; i += sh.s) {
+                    const std::vector<StTriangle> tris = eyePointTriangles(s, i, j, Triangulation::FixedDiagonal);
+                    if (tris.empty()) continue;
+                    // Per vertex: the window coordinates, the index offset towards the
+                    // hat's block (½ sample: +½ for even, −½ for odd samples), the basis
+                    // coordinates (U/2 repetitions, shifted one texel per parity).
+                    verts.clear();
+                    for (const StTriangle& t : tris)
+                        for (const glm::ivec2& gv : t.v) {
+                            raster::Vertex v;
+                            const glm::vec3 p = s.eyePoint(gv.x, gv.y);
+                            v.position = glm::vec4(p, 1.0f);
+                            const uint8_t wgt = gv == glm::ivec2(i, j) ? 255 : 0;
+                            v.diffuse = {wgt, wgt, wgt, wgt};
+                            const glm::vec2 uv = windowCoords(s, camera.eye, p);
+                            v.tex[0] = glm::vec4(uv, 0.0f, 1.0f);
+                            verts.push_back(v);
+                        }
+                    std::vector<raster::Vertex> colour = verts, basis = verts;
+                    for (auto& v : colour) {
+                        if (sh.u == 2) v.tex[0].x += (pu == 0 ? 0.5f : -0.5f) / float(s.U);
+                        if (sh.v == 2) v.tex[0].y += (pv == 0 ? 0.5f : -0.5f) / float(s.V);
+                    }
+                    for (auto& v : basis) {
+                        // Texel (0, 0) of the 2×2 texture sits on sample parity 0; one
+                        // texel's shift (½ in these units) moves it onto parity 1.
+                        v.tex[0].x = v.tex[0].x * float(s.U) * 0.5f - 0.5f * float(pu);
+                        v.tex[0].y = v.tex[0].y * float(s.V) * 0.5f - 0.5f * float(pv);
+                    }
+                    if (sh.uvHalved()) {
+                        // Pass A: basis × weight into the destination alpha.
+                        raster::PipelineState a = additiveState();
+                        a.blend = 0;
+                        a.colorWriteMask = raster::kWriteA;
+                        dev.setState(a);
+                        tu.setColorTable(0, nullptr);
+                        tu.setTexture(0, tx.basis());
+                        tu.setSampler(0, basisSampler);
+                        tu.setStage(0, tex::texEnvStage(tex::TexEnvMode::Modulate, tex::BaseFormat::Alpha));
+                        const uint64_t f0 = frags();
+                        dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Untransformed, basis);
+                        st.basisFragments += frags() - f0;
+                        ++st.basisPasses;
+                        // Pass B: the index through the parity's table, weighted by it.
+                        raster::PipelineState b = additiveState();
+                        b.srcBlend = raster::BlendFactor::DestAlpha;
+                        b.colorWriteMask = raster::kWriteR | raster::kWriteG | raster::kWriteB;
+                        dev.setState(b);
+                        tu.setStage(0, tex::texEnvStage(tex::TexEnvMode::Replace, decoded));
+                    } else {
+                        dev.setState(additiveState());
+                        tu.setStage(0, tex::texEnvStage(tex::TexEnvMode::Modulate, decoded));
+                    }
+                    if (loaded != tx.table(parity).get()) {
+                        loaded = tx.table(parity).get();
+                        ++st.tableLoads;
+                    }
+                    tu.setColorTable(0, tx.table(parity));
+                    tu.setTexture(0, tx.indexTexture(i / sh.s, j / sh.t));
+                    tu.setSampler(0, nearest);
+                    const uint64_t f0 = frags();
+                    dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Untransformed, colour);
+                    st.colorFragments += frags() - f0;
+                    ++st.colorPasses;
+                }
+        }
+    tu.setColorTable(0, nullptr);
+    if (sh.uvHalved()) {
+        // The basis passes leave the last basis weight in the destination alpha: set it to
+        // one (a full-window untextured quad, alpha only) so the frame reads as opaque.
+        raster::PipelineState a = additiveState();
+        a.blend = 0;
+        a.colorWriteMask = raster::kWriteA;
+        dev.setState(a);
+        tu.setStage(0, tex::StageState{});
+        std::vector<raster::Vertex> q(6);
+        const glm::vec2 c[6] = {{0, 0}, {float(w), 0}, {float(w), float(h)}, {0, 0}, {float(w), float(h)}, {0, float(h)}};
+        for (int k = 0; k < 6; ++k) {
+            q[size_t(k)].position = glm::vec4(c[k], 0.0f, 1.0f);
+            q[size_t(k)].diffuse = {255, 255, 255, 255};
+        }
+        dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Pretransformed, q);
+    }
+    return st;
+}
+
+}  // namespace rg::lightfield
