@@ -156,13 +156,12 @@ Vec3L<F> gridRadiance(const GridConstants& g, const Vec3L<F>& o, const Vec3L<F>&
         if (f.mirror) {
             const Vec3L<F> r = reflect3(d, facing(normalize3(N), d));
             here = boardOrSky(g, P, r, use, fetch) * splat3<F>(f.reflectance);
-            searches = select(use, searches + F(0.0f), searches);
         } else {
             const GlassPaths<F, M> p = tracePaths(f, g.iterations, P, N, d, use, fetchMap);
             const Vec3L<F> cr = boardOrSky(g, p.reflOrigin, p.reflDir, use, fetch);
             const Vec3L<F> ct = boardOrSky(g, p.exitOrigin, p.exitDir, use, fetch);
             here = cr * p.fresnel + (ct * p.transmit) * (F(1.0f) - p.fresnel);
-            searches = select(use, searches + F(1.0f), searches);
+            searches = select(use, searches + p.searches, searches);
         }
         colour = select3(use, here, colour);
         hitAny = hitAny | use;

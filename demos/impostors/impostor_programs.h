@@ -284,13 +284,14 @@ struct GridFP {
         };
         const V3 P(pos.x, pos.y, pos.z);
         const V3 V = normalize3(P - splat3<F>(g.eye));
-        F searches(1.0f);
+        F searches(0.0f);
         V3 colour;
         if (self.mirror) {
             const V3 r = reflect3(V, facing(normalize3(V3(nrm.x, nrm.y, nrm.z)), V));
             colour = gridRadiance(g, P, r, live, searches, fetch) * splat3<F>(self.reflectance);
         } else {
             const GlassPaths<F, M> p = tracePaths(self, g.iterations, P, V3(nrm.x, nrm.y, nrm.z), V, live, fetchOwn);
+            searches = p.searches;
             const V3 cr = gridRadiance(g, p.reflOrigin, p.reflDir, live, searches, fetch);
             const V3 ct = gridRadiance(g, p.exitOrigin, p.exitDir, live, searches, fetch);
             colour = cr * p.fresnel + (ct * p.transmit) * (F(1.0f) - p.fresnel);

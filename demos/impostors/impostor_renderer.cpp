@@ -237,6 +237,7 @@ ImpostorRenderer::ImpostorRenderer(const ImpostorScene& scene, int threads, Path
     }
     frames_.resize(glass_.size());
     placeMover(0.0f);
+    boardSetup();
     // The sky as a float cube, each texel the environment along its centre's direction
     // (raycore's lookup: the reference sees the same sky), read bilinearly.
     const int n = 64;
@@ -494,27 +495,32 @@ void ImpostorRenderer::buildLightMaps(const ImpostorSettings& s, bool staticMap,
     };
     // The light map: the board's up-facing triangles drawn in its texture space, each texel
     // the 2×2 percentage-closer visibility of each light.
-    auto resolve = [&](const std::shared_ptr<tex::Texture>& target, const std::shared_ptr<tex::Texture>* maps) {
+    auto resolve = [&](const std::shared_ptr<tex::Texture>& target, const std::shared_ptr<tex::Texture>* maps,
+                       const raster::Rect* scissor = nullptr) {
         ColorTarget ct{target};
         device_.setRenderTargets({&ct, 1}, DepthTarget{});
         device_.clearColor(0, glm::vec4(1.0f));
+        device_.setScissor(scissor);
         device_.setState(raster::ProgramState{});
         tex::SamplerState pcf = linearClamp(false);
         for (int i = 0; i < 2; ++i) device_.setTexture(i, maps[std::min(i, std::max(nLights - 1, 0))], pcf);
         LightMapFP fp;
         fp.lights = nLights;
         for (int i = 0; i < nLights; ++i) fp.lightViewProj[i] = lightViewProj_[size_t(i)];
-        for (const Batch& b : diffuse_) {
+        if (board_ < 0) return;
+        {
+            const Batch& b = diffuse_[size_t(board_)];
             std::vector<uint32_t> up;
             for (size_t t = 0; t + 2 < b.indices.size(); t += 3) {
                 const glm::vec3 n = b.vertices[b.indices[t]].normal + b.vertices[b.indices[t + 1]].normal +
                                     b.vertices[b.indices[t + 2]].normal;
                 if (n.y > 1.5f) up.insert(up.end(), {b.indices[t], b.indices[t + 1], b.indices[t + 2]});
             }
-            if (up.empty()) continue;
-            drawTriangles(device_, TextureSpaceVP{}, fp, std::span<const ImpostorVertex>(b.vertices),
+            if (!up.empty())
+                drawTriangles(device_, TextureSpaceVP{}, fp, std::span<const ImpostorVertex>(b.vertices),
                           std::span<const uint32_t>(up));
         }
+        device_.setScissor(nullptr);
     };
     if (nLights == 0) return;
     if (staticMap) {
@@ -523,7 +529,38 @@ void ImpostorRenderer::buildLightMaps(const ImpostorSettings& s, bool staticMap,
     }
     if (moverMap) {
         for (int i = 0; i < nLights; ++i) shadow(shadowMover_[i], i, false, !moverInStatic);
-        resolve(lightMover_, shadowMover_);
+        // §7: "Only the light map of the moving piece has to be updated" — and only where
+        // its shadow falls: cleared to unshadowed, resolved inside the footprint of the
+        // mover's box cast from each light onto the board (a scissor in texels).
+        raster::Rect rect{0, 0, s.lightMapSize, s.lightMapSize};
+        if (!moverInStatic && moverGlass_ >= 0 && boardSetup()) {
+            const Batch& m = glass_[size_t(moverGlass_)].world;
+            float u0 = 1e30f, v0 = 1e30f, u1 = -1e30f, v1 = -1e30f;
+            auto take = [&](glm::vec3 p) {
+                const float u = (p.x * grid_.uv[0] + p.z * grid_.uv[1]) + grid_.uv[2];
+                const float v = (p.x * grid_.uv[3] + p.z * grid_.uv[4]) + grid_.uv[5];
+                u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
+            };
+            for (int k = 0; k < 8; ++k) {
+                const glm::vec3 c((k & 1) ? m.hi.x : m.lo.x, (k & 2) ? m.hi.y : m.lo.y, (k & 4) ? m.hi.z : m.lo.z);
+                take(c);
+                for (int i = 0; i < nLights; ++i) {
+                    const glm::vec3 l = sc.lights[size_t(i)].position;
+                    if (l.y <= c.y + 1e-4f) {  // a light below the top: the whole board
+                        u0 = v0 = -1e30f, u1 = v1 = 1e30f;
+                        continue;
+                    }
+                    take(l + (c - l) * ((l.y - grid_.boardY) / (l.y - c.y)));
+                }
+            }
+            const float n = float(s.lightMapSize);
+            const int x0 = std::clamp(int(std::floor(u0 * n)) - 2, 0, s.lightMapSize);
+            const int x1 = std::clamp(int(std::ceil(u1 * n)) + 2, 0, s.lightMapSize);
+            const int y0 = std::clamp(int(std::floor(v0 * n)) - 2, 0, s.lightMapSize);
+            const int y1 = std::clamp(int(std::ceil(v1 * n)) + 2, 0, s.lightMapSize);
+            rect = {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
+        }
+        resolve(lightMover_, shadowMover_, &rect);
     }
 }
 
@@ -550,7 +587,7 @@ void ImpostorRenderer::drawSurroundings(const View& v, bool writeDistance, bool 
                 fp.lightIntensity[l][k] = sc.lights[size_t(l)].intensity[k];
             }
         fp.writeDistance = writeDistance ? 1 : 0;
-        fp.lightMapped = lightStatic_ ? 1 : 0;
+        fp.lightMapped = lightStatic_ && int(i) == board_ ? 1 : 0;  // the board's top face
         device_.setTexture(kUnitAlbedo, diffuseTextures_[i],
                            diffuseTextures_[i] == white_ ? pointClamp() : linearClamp(true));
         device_.setTexture(kUnitLightMap, lightStatic_ ? lightStatic_ : white_, linearClamp(false));
@@ -789,17 +826,22 @@ ImpostorFrame ImpostorRenderer::render(const ray::Camera& camera, const Impostor
     return frame;
 }
 
-void ImpostorRenderer::buildGridTexture() {
-    // 002 §4.2: "a uniform grid aligned on the squares of the chessboard", at most one
-    // object a square; the board is the diffuse object with the largest up-facing face.
-    if (board_ < 0) {
+bool ImpostorRenderer::boardSetup() {
+    // The board: the diffuse object with the largest footprint; its top face's uv as an
+    // affine function of (x, z) (the light maps' and mode A's texture space).
+    if (board_ >= 0) return true;
+    if (boardMissing_) return false;
+    {
         float best = 0.0f;
         for (size_t i = 0; i < diffuse_.size(); ++i) {
             const Batch& b = diffuse_[i];
             const float area = (b.hi.x - b.lo.x) * (b.hi.z - b.lo.z);
             if (area > best) best = area, board_ = int(i);
         }
-        if (board_ < 0) throw Error("impostors: mode A needs a board (a diffuse object under the glass objects)");
+        if (board_ < 0) {
+            boardMissing_ = true;
+            return false;
+        }
         // The top face's uv as an affine function of (x, z), from one of its triangles.
         const Batch& b = diffuse_[size_t(board_)];
         for (size_t t = 0; t + 2 < b.indices.size(); t += 3) {
@@ -825,6 +867,15 @@ void ImpostorRenderer::buildGridTexture() {
         grid_.boardY = b.hi.y;
         grid_.cell = (b.hi.x - b.lo.x) / float(kGridSize);
         for (int k = 0; k < 3; ++k) grid_.boardAlbedo[k] = diffuseMaterials_[size_t(board_)].diffuse[k];
+    }
+    return true;
+}
+
+void ImpostorRenderer::buildGridTexture() {
+    // 002 §4.2: "a uniform grid aligned on the squares of the chessboard", at most one
+    // object a square.
+    if (!boardSetup()) throw Error("impostors: mode A needs a board (a diffuse object under the glass objects)");
+    if (!gridCells_) {
         tex::TextureDesc d;
         d.format = tex::TexelFormat::R32F;
         d.width = d.height = kGridSize;

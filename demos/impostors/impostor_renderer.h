@@ -90,6 +90,7 @@ class ImpostorRenderer {
     // searches (0 where no glass was drawn) and the mover flags (1 the reflected ray met
     // the mover, 2 the exiting ray, 3 both), and the rays of Figure 9's class map.
     ray::Image frame() const;
+    const tex::Texture& frameTexture() const { return *frame_; }
     struct Diagnostics {
         ray::Image searches, flags;
         ray::Image reflDir, reflD, exitOrigin, exitD, exitDir;  // world space; d: along the ray
@@ -165,6 +166,7 @@ class ImpostorRenderer {
     ObjectFrame frameOf(const Glass& g, const ImpostorSettings& s) const;
     void drawGrid(const View& v, const ImpostorSettings& s, int i);
     void buildGridTexture();
+    bool boardSetup();  // false: the scene has no board (no light-map footprints, no mode A)
     std::shared_ptr<tex::Texture> cubeTarget(int size) ;
 
     const ImpostorScene& scene_;
@@ -187,6 +189,7 @@ class ImpostorRenderer {
     std::shared_ptr<tex::Texture> gridCells_;  // mode A: the board's squares' occupants (R32F 8×8)
     GridConstants grid_;                       // mode A: the constants every object shares
     int board_ = -1;                           // diffuse_ index of the board (its top face)
+    bool boardMissing_ = false;
     int frameW_ = 0, frameH_ = 0, envSize_ = 0, lightSize_ = 0, shadowSize_ = 0;
     Content content_ = Content::None;
     std::string impostorKey_, lightKey_;

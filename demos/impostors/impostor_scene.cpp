@@ -2,6 +2,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
+
 #include "core/error.h"
 #include "raycore/builtin_scenes.h"
 #include "raycore/scene_json.h"
@@ -109,6 +111,17 @@ ImpostorScene makeChessScene(const ChessOptions& o) {
         m.reflectance = glm::vec3(0.9f);
         m.fresnel = ray::MirrorFresnel::Constant;
         sc.objects.at(size_t(s.mover)).material = sc.addMaterial(m);
+    }
+    if (!o.keep.empty()) {
+        const std::string mover = sc.objects.at(size_t(s.mover)).name;
+        std::vector<ray::Object> kept;
+        for (const ray::Object& ob : sc.objects)
+            if (ob.name == "board" || ob.name == mover || ob.name == "glass_sphere" ||
+                std::find(o.keep.begin(), o.keep.end(), ob.name) != o.keep.end())
+                kept.push_back(ob);
+        sc.objects = kept;
+        indexGlass(s);
+        setMover(s, mover);
     }
     s.description = "raycore's glass chess set (lathes of " + std::to_string(o.segments) +
                     " segments, the knight a lathe base with an extruded head) on its 8×8 checker board, a "

@@ -39,6 +39,9 @@ struct ChessOptions {
     int segments = 56;          // lathe segments of the pieces
     int sphereSlices = 64;      // the glass sphere's tessellation (slices × slices/2)
     bool mirrorMover = false;   // Figure 9: the moving pawn is a mirror
+    // Only these objects (and the board, the mover and the sphere) when not empty: the small
+    // scenes of the tests and golden traces.
+    std::vector<std::string> keep;
 };
 // The §8 scene: mover the white d-pawn, d2 → d4.
 ImpostorScene makeChessScene(const ChessOptions& options = {});

@@ -175,20 +175,24 @@ F stepTowardsInfinity(const F& dy, const F& ay, const F& rl) {
 //        overshoot yet, the ideal point at infinity: the step through r; with no undershoot
 //        yet, "we can use x": d = 0 at its own ratio, read once) give the next point.
 //
-// A search reads 3 + iterations texels (one more where x is read). `outside` (§4.1): x
-// lies outside the surface, on the far side of a refractor; the undershoot is seeded with
-// the ray's point nearest the reference point (read first, one more texel), and an
-// overshoot before the last undershoot — in front of the refractor's far side — is no
-// bracket for the root sought (the last crossing from inside to outside) and is ignored.
+// A search reads 3 + iterations texels (one more where x is read).
+//
+// `seeded`: x is not inside the surface but on it (a refracted ray's entry point in the
+// refractor map, Figure 3: x is a root itself, ratio 1, and "use x" would stop there) or
+// outside it (§4.1: the far point of the refractor's box). The undershoot is then seeded
+// with the ray's point nearest the reference point, read first (one more texel) — inside
+// the refractor wherever the ray crosses its middle — and an overshoot before the last
+// undershoot (in front of the refractor's far side) is no bracket for the root sought, the
+// last crossing from inside to outside, and is ignored.
 template <class F, class M, class Fetch>
 SearchResult<F, M> secantSearch(const Vec3L<F>& x, const Vec3L<F>& R, int iterations, const M& live, Fetch&& fetch,
-                                bool outside = false) {
+                                bool seeded = false) {
     SearchResult<F, M> res;
     const F xR = dot3(x, R);
     // The brackets: the last undershoot (dU, aU) and the last overshoot (dO, aO).
     M hasUnder = M(), hasOver = M();
     F dU(0.0f), aU(0.0f), dO(0.0f), aO(0.0f);
-    if (outside) {
+    if (seeded) {
         const F dc = max(F(0.0f), -xR);
         const Vec3L<F> c = x + R * dc;
         const F ac = distanceRatio(c, fetch(c, live).w);
@@ -205,7 +209,7 @@ SearchResult<F, M> secantSearch(const Vec3L<F>& x, const Vec3L<F>& R, int iterat
     auto classify = [&](const F& d, const F& a) {
         const M under = live & (a < F(1.0f));
         M over = andNot(live, under);
-        if (outside) over = andNot(over, hasUnder & (d < dU));
+        if (seeded) over = andNot(over, hasUnder & (d < dU));
         dU = select(under, d, dU);
         aU = select(under, a, aU);
         dO = select(over, d, dO);

@@ -50,6 +50,7 @@ struct GlassPaths {
     Vec3L<F> reflOrigin, reflDir, exitOrigin, exitDir;
     F fresnel;
     Vec3L<F> transmit;  // transmittance^length, per channel
+    F searches;         // refractor-map searches: 1, 2 where the exit reflected totally
 };
 
 // Refraction into the object at P (world) with normal N, seen along V (unit); the exit from
@@ -69,14 +70,33 @@ GlassPaths<F, M> tracePaths(const ObjectFrame& o, int iterations, const Vec3L<F>
     const Vec3L<F> T = refractOrReflect(V, N, 1.0f / o.eta, tirIn);
     const Vec3L<F> c = splat3<F>(o.centre);
     const Vec3L<F> xl = mul3(o.toLocal, P - c), Tl = mul3(o.toLocal, T);
-    const SearchResult<F, M> s = secantSearch(xl, Tl, iterations, live, fetchRefr);
+    const SearchResult<F, M> s = secantSearch(xl, Tl, iterations, live, fetchRefr, /*seeded=*/true);
     const Vec3L<F> Q = c + mulT3(o.toLocal, s.point);
     const Vec3L<F> Nq = mulT3(o.toLocal, normalize3(Vec3L<F>(s.texel.x, s.texel.y, s.texel.z)));
     M tirOut;
     g.exitDir = refractOrReflect(T, facing(Nq, T), o.eta, tirOut);
     g.exitOrigin = Q;
-    g.transmit = {expNeg(F(o.absorption[0]) * s.d), expNeg(F(o.absorption[1]) * s.d),
-                  expNeg(F(o.absorption[2]) * s.d)};
+    F length = s.d;
+    g.searches = F(1.0f);
+    // Total internal reflection at the exit: the reflected ray is still inside; one more
+    // search of the refractor map finds where it leaves (the paper does not say; the
+    // environment along the reflected ray would see the sky through the object's own
+    // floor). A second total reflection leaves along its mirror direction.
+    const M again = live & tirOut;
+    if (anyLane(again)) {
+        const SearchResult<F, M> s2 = secantSearch(mul3(o.toLocal, Q - c), mul3(o.toLocal, g.exitDir), iterations, again,
+                                                   fetchRefr, /*seeded=*/true);
+        const Vec3L<F> Q2 = c + mulT3(o.toLocal, s2.point);
+        const Vec3L<F> N2 = mulT3(o.toLocal, normalize3(Vec3L<F>(s2.texel.x, s2.texel.y, s2.texel.z)));
+        M tir2;
+        const Vec3L<F> out2 = refractOrReflect(g.exitDir, facing(N2, g.exitDir), o.eta, tir2);
+        g.exitOrigin = select3(again, Q2, g.exitOrigin);
+        g.exitDir = select3(again, out2, g.exitDir);
+        length = select(again, length + s2.d, length);
+        g.searches = select(again, F(2.0f), g.searches);
+    }
+    g.transmit = {expNeg(F(o.absorption[0]) * length), expNeg(F(o.absorption[1]) * length),
+                  expNeg(F(o.absorption[2]) * length)};
     return g;
 }
 
@@ -95,7 +115,8 @@ EnvSample<F> envLookup(const ObjectFrame& o, int iterations, const Vec3L<F>& ori
 }
 
 // Searches a shading takes, per lane (Figure 5's counts): 3 per glass object (refractor map,
-// environment along the reflected and the exiting ray), 1 per mirror.
+// environment along the reflected and the exiting ray; 4 where the exit reflects totally),
+// 1 per mirror.
 template <class F>
 struct Shaded {
     Vec3L<F> colour;
@@ -154,7 +175,7 @@ Shaded<F> shadeOwn(const ObjectFrame& o, int iterations, const Vec3L<F>& P, cons
     out.transmit = g.transmit;
     out.fresnel = g.fresnel;
     out.colour = combine(o, out);
-    out.searches = F(3.0f);
+    out.searches = g.searches + F(2.0f);
     out.moverFlags = F(0.0f);
     out.reflDir = g.reflDir;
     out.exitOrigin = g.exitOrigin;

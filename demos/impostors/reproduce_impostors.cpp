@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "figures.h"
+#include "impostor_demo.h"
 #include "raycore/accel.h"
 #include "raycore/metrics.h"
 #include "raycore/render.h"
@@ -619,7 +620,8 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
                 const glm::vec3 x = n * radius;  // relative to the centre
                 const float truth = -2.0f * glm::dot(x, dir);
                 const SearchResult<float, bool> s =
-                    secantSearch(Vec3L<float>(x.x, x.y, x.z), Vec3L<float>(dir.x, dir.y, dir.z), S.iterations, true, fetch);
+                    secantSearch(Vec3L<float>(x.x, x.y, x.z), Vec3L<float>(dir.x, dir.y, dir.z), S.iterations, true, fetch,
+                                 /*seeded=*/true);
                 const glm::vec3 exit = x + dir * s.d, want = x + dir * truth;
                 errs.push_back(double(glm::length(exit - want)) / texel);
             }
@@ -937,6 +939,10 @@ std::string ImpostorReproduction::appliesTo(const ray::Scene& scene) const {
 std::unique_ptr<demos::Technique> ImpostorReproduction::prepare(const ray::Scene& scene, const std::vector<ray::Camera>&,
                                                                 const demos::PrepareOptions& options) const {
     return makeImpostorTechnique(scene, options);
+}
+
+std::unique_ptr<viewer::Demo> ImpostorReproduction::makeDemo(const viewer::DemoOptions& options) const {
+    return std::make_unique<ImpostorDemo>(options);
 }
 
 void ImpostorReproduction::registerPrograms() const { registerImpostorPrograms(); }

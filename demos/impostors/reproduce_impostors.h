@@ -57,6 +57,7 @@ class ImpostorReproduction final : public demos::Reproduction {
     std::string appliesTo(const ray::Scene& scene) const override;
     std::unique_ptr<demos::Technique> prepare(const ray::Scene& scene, const std::vector<ray::Camera>& views,
                                               const demos::PrepareOptions& options) const override;
+    std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
     void registerPrograms() const override;
     std::vector<demos::BenchCase> benchCases() const override;
 };
