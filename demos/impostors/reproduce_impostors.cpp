@@ -405,7 +405,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     ray::writeImage(out / "figure10_whole_scene.png",
                     demos::labelledGrid({{images["separated"], "ours (separated, DEPTH " + std::to_string(S.depth) + ")"},
                                          {refWhole, "Whitted ray tracing, depth " + std::to_string(S.referenceDepth)},
-                                         {ray::errorHeatMap(refWhole, images["separated"], 0.25f), "|difference|, 0 → 0.25"}},
+                                         {ray::errorHeatMap(refWhole, images["separated"], 0.25f), "|difference|, 0 to 0.25"}},
                                         3));
     progress.advance();
 
@@ -554,7 +554,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
         ray::writeImage(out / "figure9_comparison.png",
                         demos::labelledGrid({{ref, "classic ray tracing (Whitted, depth " + std::to_string(S.referenceDepth) + ")"},
                                              {ours, "ours (separated)"},
-                                             {ray::errorHeatMap(ref, ours, 0.25f), "difference, 0 → 0.25"},
+                                             {ray::errorHeatMap(ref, ours, 0.25f), "difference, 0 to 0.25"},
                                              {classes, "error kinds: 1 red, 2 green, 3 blue, other grey"}},
                                             2));
         ray::writeImage(out / "figure5_searches.png",
