@@ -11,9 +11,6 @@
 #include "impostor_renderer.h"
 #include "scratch_dir.h"
 #include "texunit/cube_mapping.h"
-#include "raycore/accel.h"
-#include "raycore/tracer_whitted.h"
-#include "raycore/render.h"
 
 namespace rg::impostors {
 namespace {
@@ -233,40 +230,6 @@ TEST(ImpostorErrors, ScenesWithoutGlassAndUnknownMoversAreRefused) {
     const ImpostorScene ex = impostorSceneFromFile(RETROGLASS_SOURCE_DIR "/data/scenes/example.json", "ball");
     EXPECT_EQ(ex.scene.objects[size_t(ex.mover)].name, "ball");
     EXPECT_EQ(ex.glass.size(), 2u);  // the chrome teapot and the glass ball
-}
-
-}  // namespace
-}  // namespace rg::impostors
-
-namespace rg::impostors {
-namespace {
-
-// Not a test: images for looking at (run with --gtest_also_run_disabled_tests); writes
-// $IMPOSTORS_DEV_OUT (default /tmp/impostors_dev).
-TEST(ImpostorDev, DISABLED_Images) {
-    const char* env = std::getenv("IMPOSTORS_DEV_OUT");
-    const std::filesystem::path out = env ? env : "/tmp/impostors_dev";
-    std::filesystem::create_directories(out);
-    ChessOptions o;
-    ImpostorScene scene = makeChessScene(o);
-    ImpostorRenderer r(scene, 2, Path::Fast);
-    ImpostorSettings s;
-    s.width = s.height = 256;
-    s.envSize = 128;
-    s.refractorSize = 128;
-    s.mode = Mode::Static;
-    ray::Camera cam{"close", {2.0f, 1.2f, -4.5f}, {-0.5f, 0.3f, -2.5f}, {0, 1, 0}, 30.0f};
-    r.render(cam, s);
-    ray::writeImage(out / "ours.png", r.frame());
-    ray::Accel accel(scene.scene);
-    ray::RenderOptions ro;
-    ro.width = ro.height = 256;
-    ro.maxDepth = 8;
-    ray::writeImage(out / "ref.png", ray::renderWhitted(accel, cam, ro));
-    for (int m = 0; m < r.refractorMaps(); ++m)
-        ray::writeImage(out / ("refractor" + std::to_string(m) + ".png"), r.refractorImage(m));
-    ray::writeImage(out / "impostor_mover.png", r.impostorImage(r.moverIndex(), false));
-    ray::writeImage(out / "impostor_mover_dist.png", r.impostorImage(r.moverIndex(), true, 4.0f));
 }
 
 }  // namespace

@@ -406,6 +406,12 @@ TEST(ViewerProgrammable, TheImpostorFrameIsHandedOverAsItIsAndTheMoverMovesLive)
     s.render(false);
     EXPECT_EQ(imp->settings().moverU, 1.0f);
     EXPECT_NE(s.frameHash(), first);
+    // - steps the moving piece back a twentieth of its path (its only Float parameter).
+    const auto back = rg::viewer::nudgeAction(imp->params(), -1);
+    ASSERT_TRUE(back.has_value());
+    EXPECT_EQ(back->name, "mover");
+    s.apply(*back);
+    EXPECT_FLOAT_EQ(imp->settings().moverU, 0.95f);
     s.apply({Action::Kind::Param, 0, 0, 1, "mode"});
     EXPECT_EQ(imp->settings().mode, rg::impostors::Mode::Classical);
     try {
@@ -415,4 +421,35 @@ TEST(ViewerProgrammable, TheImpostorFrameIsHandedOverAsItIsAndTheMoverMovesLive)
         EXPECT_NE(std::string(e.what()).find("geforce8800"), std::string::npos) << e.what();
     }
     EXPECT_EQ(s.profile(), "geforce8800");
+}
+
+// -/= and the d-pad step the first Float parameter by a twentieth of its range, clamped, as
+// a Param action (so a recording replays it); a demo without one gets nothing.
+TEST(ViewerNudge, TheFirstFloatParameterStepsWithinItsRange) {
+    using rg::viewer::Param;
+    std::vector<Param> params(3);
+    params[0] = {"n", "n", "", Param::Kind::Int, 3, 0, 10, {}};
+    params[1] = {"u", "u", "", Param::Kind::Float, 0.5, 0, 2, {}};
+    params[2] = {"v", "v", "", Param::Kind::Float, 0.0, 0, 1, {}};
+    auto a = rg::viewer::nudgeAction(params, 1);
+    ASSERT_TRUE(a.has_value());
+    EXPECT_EQ(a->kind, Action::Kind::Param);
+    EXPECT_EQ(a->name, "u");
+    EXPECT_DOUBLE_EQ(a->value, 0.6);
+    params[1].value = 1.95;
+    EXPECT_DOUBLE_EQ(rg::viewer::nudgeAction(params, 1)->value, 2.0);  // clamped at max
+    params[1].value = 0.05;
+    EXPECT_DOUBLE_EQ(rg::viewer::nudgeAction(params, -1)->value, 0.0);  // and at min
+    params.erase(params.begin() + 1, params.end());
+    EXPECT_FALSE(rg::viewer::nudgeAction(params, 1).has_value());
+    // The d-pad: a press to the right or left steps once; holding it or up/down does not.
+    pad::PadState idle, right, left, up;
+    right.hat = 2;
+    left.hat = 6;
+    up.hat = 0;
+    EXPECT_EQ(rg::viewer::padNudge(right, idle), 1);
+    EXPECT_EQ(rg::viewer::padNudge(left, idle), -1);
+    EXPECT_EQ(rg::viewer::padNudge(right, right), 0);
+    EXPECT_EQ(rg::viewer::padNudge(up, idle), 0);
+    EXPECT_EQ(rg::viewer::padNudge(idle, right), 0);
 }
