@@ -113,6 +113,8 @@ ImpostorScene makeChessScene(const ChessOptions& o) {
         sc.objects.at(size_t(s.mover)).material = sc.addMaterial(m);
     }
     if (!o.keep.empty()) {
+        for (const std::string& name : o.keep)
+            if (sc.findObject(name) < 0) throw Error("impostors: the chess set has no object '" + name + "' to keep");
         const std::string mover = sc.objects.at(size_t(s.mover)).name;
         std::vector<ray::Object> kept;
         for (const ray::Object& ob : sc.objects)

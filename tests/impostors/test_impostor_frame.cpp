@@ -200,6 +200,15 @@ TEST(ImpostorErrors, BadSettingsNameTheValueAndTheLimit) {
 
 TEST(ImpostorErrors, ScenesWithoutGlassAndUnknownMoversAreRefused) {
     ImpostorScene s = smallScene();
+    ChessOptions keep;
+    keep.segments = 12;
+    keep.keep = {"white_queen3", "white_queen9"};
+    try {
+        makeChessScene(keep);
+        FAIL() << "a kept object that does not exist";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("no object 'white_queen9'"), std::string::npos) << e.what();
+    }
     try {
         setMover(s, "white_pawn9");
         FAIL();
