@@ -143,6 +143,36 @@ TEST(ImpostorSearch, SecantSearchConvergesOnAnAnalyticSphere) {
     EXPECT_LT(err0, 0.05 * 2.5);
 }
 
+// A refracted ray starts on the refractor's surface (Figure 3): x is a root itself (ratio 1),
+// so an unseeded search that "uses x" stops at d ≈ 0; seeded with the ray's point nearest
+// the centre, it finds the far side, the exit, within a texel.
+TEST(ImpostorSearch, ARayFromTheSurfaceFindsItsExitOnlySeeded) {
+    const int n = 128;
+    const float radius = 1.0f;
+    const SphereMap m({0.0f, 0.0f, 0.0f}, radius, n);
+    std::mt19937 rng(5);
+    std::normal_distribution<float> g;
+    const double texel = 2.0 * radius / n;
+    double seededErr = 0, plainErr = 0;
+    const int rays = 400;
+    int count = 0;
+    const Fetch fetch{&m, &count};
+    for (int i = 0; i < rays; ++i) {
+        const glm::vec3 nrm = glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
+        glm::vec3 d = glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
+        if (glm::dot(d, nrm) > -0.2f) d = glm::normalize(d - nrm * (glm::dot(d, nrm) + 0.6f));  // inwards
+        const glm::vec3 o = nrm * radius;
+        const float truth = -2.0f * glm::dot(o, d);  // the chord
+        const V3 x(o.x, o.y, o.z), R(d.x, d.y, d.z);
+        seededErr += std::fabs(secantSearch(x, R, 8, true, fetch, /*seeded=*/true).d - truth);
+        plainErr += std::fabs(secantSearch(x, R, 8, true, fetch).d - truth);
+    }
+    seededErr /= rays;
+    plainErr /= rays;
+    EXPECT_LT(seededErr, texel) << "seeded: mean error of the exit";
+    EXPECT_GT(plainErr, 0.25 * radius) << "unseeded: the entry itself is taken for the root";
+}
+
 // The fetch count: r, p, l and one per iteration (plus x's own ratio, once, where no
 // undershoot was seen by the first iteration); from outside, one more (the seed).
 TEST(ImpostorSearch, ReadsThreeTexelsPlusOnePerIteration) {
