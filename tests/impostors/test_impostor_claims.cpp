@@ -43,7 +43,7 @@ TEST(ImpostorClaims, TheReproductionRunsSmallAndItsClaimsAreReported) {
                           "refractor_maps.png", "environment_impostor.png"})
         EXPECT_TRUE(fs::exists(o.outDir / f)) << f;
     for (const char* k : {"timing", "figure2", "figure9", "depth_sweep", "iteration_sweep", "glass_pixels_sweep",
-                          "figure3_refractor_exit", "figure4_outside_search", "claims"})
+                          "figure3_refractor_exit", "figure4_outside_search", "exit_total_reflection", "claims"})
         EXPECT_TRUE(r.contains(k)) << k;
     // The four configurations of §8, each timed, with the mover's maps alone rebuilt when
     // separated and every object's when classical.
@@ -54,6 +54,13 @@ TEST(ImpostorClaims, TheReproductionRunsSmallAndItsClaimsAreReported) {
     EXPECT_EQ(r["timing"]["static"]["impostors_rebuilt_per_frame"].get<int>(), 0);
     EXPECT_EQ(r["timing"]["separated"]["impostors_rebuilt_per_frame"].get<int>(), 1);
     EXPECT_EQ(r["timing"]["classical"]["impostors_rebuilt_per_frame"].get<int>(), 33);
+    // Total reflection at the exit, ours against the ray tracer's, over the same glass pixels.
+    const auto& tir = r["exit_total_reflection"];
+    EXPECT_GT(tir["glass_pixels"].get<int64_t>(), 50) << tir.dump();
+    for (const char* k : {"ours_fraction", "ray_tracer_fraction"}) {
+        EXPECT_GE(tir[k].get<double>(), tir["both_fraction"].get<double>()) << tir.dump();
+        EXPECT_LE(tir[k].get<double>(), 1.0) << tir.dump();
+    }
     std::map<std::string, bool> claims;
     for (const auto& c : r["claims"]) {
         for (const char* k : {"section", "statement", "measured", "holds"}) EXPECT_TRUE(c.contains(k)) << c.dump();
