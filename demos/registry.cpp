@@ -3,8 +3,9 @@
 // in demos/CMakeLists.txt).
 #include "core/error.h"
 #include "reproduction.h"
-#include "reproduce_lightfield.h"
 #include "reproduce_hybrid.h"
+#include "reproduce_impostors.h"
+#include "reproduce_lightfield.h"
 #include "reproduce_pem.h"
 #include "reproduce_tir.h"
 
@@ -13,13 +14,9 @@ namespace rg::demos {
 const std::vector<const Reproduction*>& reproductions() {
     // In the order the project builds them. A paper not built yet is listed by name, paper
     // and profile; `retroglass reproduce` and the gallery say so.
-    static const PlannedReproduction impostors(
-        "impostors",
-        "Dancsik & Minarik, \"Real-time multi-bounce many-object ray tracing with "
-        "distance-normal impostors\"",
-        "geforce8800");
     static const std::vector<const Reproduction*> all = {&pem::pemReproduction(), &hybrid::hybridReproduction(),
-                                                         &lightfield::lightfieldReproduction(), &impostors,
+                                                         &lightfield::lightfieldReproduction(),
+                                                         &impostors::impostorReproduction(),
                                                          &tir::tirReproduction()};
     return all;
 }

@@ -176,7 +176,8 @@ Vec4x4 QuadContext::sampleLevelLanes(const detail::BoundUnit& b, const Vec4x4& c
     for (int i = 0; i < 4; ++i) {
         if (!((lanes >> i) & 1u)) continue;
         if (b.nearest.valid() && setup_->path == Path::Fast) {
-            t[size_t(i)] = b.nearest.fetch(cx[i], cy[i]);
+            t[size_t(i)] = b.nearest.cube ? b.nearest.fetchCube(glm::vec3(cx[i], cy[i], cz[i]))
+                                          : b.nearest.fetch(cx[i], cy[i]);
             ++fetches_[size_t(i)];
             continue;
         }
@@ -193,6 +194,23 @@ detail::NearestFloat2D detail::nearestFloat2D(const tex::Texture* texture, const
     NearestFloat2D n;
     using tex::AddressMode;
     auto simple = [](AddressMode m) { return m == AddressMode::Wrap || m == AddressMode::ClampToEdge; };
+    if (texture && texture->isFloat() && texture->desc().target == tex::TextureTarget::CubeMap &&
+        sampler.magFilter == tex::FilterMode::Nearest && sampler.minFilter == tex::FilterMode::Nearest &&
+        sampler.mipFilter == tex::MipMode::None) {
+        // Cube maps clamp to their face edges whatever the address mode (fetchOneLevel).
+        const int base = std::clamp(sampler.baseLevel, 0, texture->levels() - 1);
+        if (texture->singleChannel())
+            n.data1 = texture->dataR(base, 0);
+        else
+            n.data4 = texture->dataF(base, 0);
+        n.depth = texture->format().isDepth;
+        n.width = texture->levelSize(base)[0];
+        n.height = texture->levelSize(base)[1];
+        n.cube = true;
+        n.faceTexels = size_t(n.width) * size_t(n.height);
+        if ((n.width & (n.width - 1)) == 0) n.widthShift = std::countr_zero(unsigned(n.width));
+        return n;  // lanes4 stays false: the groups fetch cube maps through nearestCubeIndices
+    }
     if (!(texture && texture->isFloat() && texture->dims() <= 2 &&
           texture->desc().target != tex::TextureTarget::CubeMap &&
           sampler.magFilter == tex::FilterMode::Nearest && sampler.minFilter == tex::FilterMode::Nearest &&

@@ -41,8 +41,8 @@ std::vector<glm::vec2> profileOf(const std::string& kind) {
 
 }  // namespace
 
-Mesh makeChessPiece(const std::string& kind) {
-    Mesh m = makeLathe(profileOf(kind), 40);
+Mesh makeChessPiece(const std::string& kind, int segments) {
+    Mesh m = makeLathe(profileOf(kind), segments);
     m.name = kind;
     if (kind == "knight") {
         // A horse's head in profile (facing +x), star-shaped about its centroid as
@@ -60,6 +60,7 @@ Mesh makeChessPiece(const std::string& kind) {
         appendMesh(m, head, "head");
     }
     m.source = {"chess_piece", kind, {}};
+    if (segments != 40) m.source.params["segments"] = segments;
     return m;
 }
 
@@ -72,11 +73,11 @@ Mesh makeChessboard(float squareSize) {
     return m;
 }
 
-void addChessSet(Scene& scene, uint32_t whiteGlass, uint32_t blackGlass) {
+void addChessSet(Scene& scene, uint32_t whiteGlass, uint32_t blackGlass, int segments) {
     const char* backRank[8] = {"rook", "knight", "bishop", "queen", "king", "bishop", "knight", "rook"};
     std::vector<std::string> kinds = {"pawn", "rook", "knight", "bishop", "queen", "king"};
     std::vector<uint32_t> meshOf(kinds.size());
-    for (size_t i = 0; i < kinds.size(); ++i) meshOf[i] = scene.addMesh(makeChessPiece(kinds[i]));
+    for (size_t i = 0; i < kinds.size(); ++i) meshOf[i] = scene.addMesh(makeChessPiece(kinds[i], segments));
     auto meshFor = [&](const std::string& k) {
         for (size_t i = 0; i < kinds.size(); ++i)
             if (kinds[i] == k) return meshOf[i];

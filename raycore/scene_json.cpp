@@ -181,7 +181,7 @@ Mesh makeShape(const MeshSource& s) {
         return tmp.meshes[0];
     }
     if (s.kind == "chessboard") return makeChessboard(float(param(p, "square_size", 1)));
-    return makeChessPiece(s.path);  // chess_piece
+    return makeChessPiece(s.path, countParam(p, "segments", 40, 3));  // chess_piece
 }
 
 // " (radius 0, slices 8)": a shape's parameters as the scene gives them, for messages.

@@ -72,7 +72,8 @@ int runProfiles() {
 
 // ---- reproduce --------------------------------------------------------------------------
 int runReproduce(const std::string& name, const std::string& quality, const std::string& outDir,
-                 const std::string& scene, const std::string& views, const GlobalOptions& g) {
+                 const std::string& scene, const std::string& views, const std::string& mover,
+                 const GlobalOptions& g) {
     rg::demos::ReproduceOptions base;
     base.quality = rg::demos::qualityByName(quality);
     base.threads = g.threads;
@@ -80,6 +81,7 @@ int runReproduce(const std::string& name, const std::string& quality, const std:
     base.stats = g.stats;
     base.scene = scene;
     base.views = views;
+    base.mover = mover;
     base.capture = g.capture;
     if (name != "all") rg::demos::findReproduction(name);  // an unknown name is an error
 
@@ -145,7 +147,7 @@ int main(int argc, char** argv) {
 
     auto* profiles = app.add_subcommand("profiles", "print every hardware profile and its limits");
 
-    std::string reproName = "all", quality = "quick", outDir = "out", scene, views;
+    std::string reproName = "all", quality = "quick", outDir = "out", scene, views, mover;
     auto* reproduce = app.add_subcommand(
         "reproduce", "run the paper reproductions into out/ (with out/index.html)");
     reproduce->add_option("name", reproName, "pem, hybrid, lightfield, impostors, tir or all");
@@ -154,6 +156,7 @@ int main(int argc, char** argv) {
     reproduce->add_option("--out", outDir, "output folder");
     reproduce->add_option("--scene", scene, "a scene file (docs/scene-format.md) to use instead");
     reproduce->add_option("--views", views, "viewpoint range A:B of a split precompute");
+    reproduce->add_option("--mover", mover, "impostors with --scene: the object that moves (default: the last glass or mirror object)");
 
     rg::ray::RaytraceArgs rt;
     auto* raytrace = app.add_subcommand(
@@ -215,7 +218,7 @@ int main(int argc, char** argv) {
     try {
         registerTracePrograms();
         if (*profiles) return runProfiles();
-        if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, g);
+        if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, mover, g);
         if (*test) return runTests(testArgs, g);
         if (*compare) {
             compareOptions.threads = g.threads;

@@ -45,6 +45,7 @@ struct ReproduceOptions {
     std::string scene;             // --scene FILE, empty for the built-in scene
     std::string views;             // --views A:B, empty for all
     std::string capture;           // --capture FILE: record the timed viewer frame as a trace
+    std::string mover;             // --mover NAME: the object that moves (impostors, with --scene)
 };
 
 // A precompute's viewpoint range [begin, end) from `--views A:B` (empty: all `count`).

@@ -47,6 +47,11 @@ std::vector<Action> padActions(const pad::PadState& now, const pad::PadState& be
     return out;
 }
 
+int padNudge(const pad::PadState& now, const pad::PadState& before) {
+    if (now.hat == before.hat) return 0;
+    return now.hat == 2 ? 1 : now.hat == 6 ? -1 : 0;
+}
+
 struct GamepadManager::Impl {
     bool initialised = false;
     hid_device* device = nullptr;

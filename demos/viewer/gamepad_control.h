@@ -23,6 +23,9 @@ struct PadBindings {
 };
 std::vector<Action> padActions(const pad::PadState& now, const pad::PadState& before,
                                const PadBindings& bindings);
+// The d-pad's left/right press (the edge, so a held pad steps once): −1, +1, else 0; the
+// window turns it into nudgeAction (the demo's first Float parameter).
+int padNudge(const pad::PadState& now, const pad::PadState& before);
 
 // Finds the first gamepad hidapi lists, reads its reports without blocking, notices unplug
 // (read error) and rescans for a new pad every two seconds. Never throws.

@@ -27,10 +27,12 @@ const std::vector<std::pair<std::string, std::string>>& keyBindings() {
         {"Tab", "show/hide the panel"},
         {"F12 or P", "screenshot (framebuffer PNG + window PNG)"},
         {"I", "pass inspector on/off; , and . step through the passes"},
+        {"- / =", "step the demo's first continuous parameter (impostors: the moving piece)"},
         {"Esc", "quit"},
         {"gamepad left stick", "orbit"},
         {"gamepad right stick", "dolly (up/down), raise the eye (left/right)"},
         {"gamepad L1/R1", "previous/next viewpoint sample"},
+        {"gamepad d-pad left/right", "step the demo's first continuous parameter, as - / ="},
         {"gamepad South (cross, A)", "screenshot; North: reset; East: nearest sample"},
     };
     return b;

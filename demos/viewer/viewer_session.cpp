@@ -106,6 +106,15 @@ const char* actionVerb(Action::Kind k) {
 
 // ---- session ----------------------------------------------------------------------------
 
+std::optional<Action> nudgeAction(const std::vector<Param>& params, int direction) {
+    for (const Param& p : params) {
+        if (p.kind != Param::Kind::Float) continue;
+        const double v = std::clamp(p.value + double(direction) * (p.max - p.min) / 20.0, p.min, p.max);
+        return Action{Action::Kind::Param, 0, 0, v, p.name};
+    }
+    return std::nullopt;
+}
+
 ViewerSession::ViewerSession(std::unique_ptr<Demo> demo, const std::string& profile, int threads)
     : demo_(std::move(demo)), threads_(threads) {
     rig_ = demo_->rig();

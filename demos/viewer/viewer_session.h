@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,11 @@ struct Action {
 };
 
 const char* actionVerb(Action::Kind kind);
+
+// The keyboard's -/= and the pad's d-pad left/right step the demo's first Float parameter
+// (impostors: the moving piece along its path) by a twentieth of its range, clamped; the
+// step is an ordinary Param action, so recordings replay it. nullopt: the demo has none.
+std::optional<Action> nudgeAction(const std::vector<Param>& params, int direction);
 
 // One pass of the last frame as the pass inspector shows it: the framebuffer when the
 // pass ended and the state its last draw used.

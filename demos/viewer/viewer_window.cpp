@@ -174,6 +174,14 @@ int runWindow(ViewerSession& session, const ViewOptions& o) {
                         inspector = !inspector;
                         inspectorToggled = true;
                         break;
+                    case SDLK_MINUS:
+                    case SDLK_KP_MINUS:
+                    case SDLK_EQUALS:
+                    case SDLK_KP_PLUS:
+                        if (auto a = nudgeAction(session.demo().params(),
+                                                 k == SDLK_MINUS || k == SDLK_KP_MINUS ? -1 : 1))
+                            actions.push_back(*a);
+                        break;
                     case SDLK_COMMA: inspectPass = std::max(0, inspectPass - 1); break;
                     case SDLK_PERIOD: ++inspectPass; break;
                     default: break;
@@ -224,6 +232,8 @@ int runWindow(ViewerSession& session, const ViewOptions& o) {
                 if (a.kind == Action::Kind::Screenshot) screenshot = true;
                 else actions.push_back(std::move(a));
             }
+            if (const int n = padNudge(*s, padBefore); n != 0)
+                if (auto a = nudgeAction(session.demo().params(), n)) actions.push_back(*a);
             padBefore = *s;
         }
         for (const std::string& m : gamepad.takeMessages()) say(m);

@@ -18,6 +18,8 @@
 #include "rasterizer/device.h"
 #include "rasterizer/trace.h"
 #include "texunit/texture_units.h"
+#include "impostor_programs.h"
+#include "impostor_renderer.h"
 #include "tir_programs.h"
 #include "tir_renderer.h"
 
@@ -787,6 +789,39 @@ const std::vector<ProgramBuilder>& programBuilders() {
                          image.color().size_bytes());
              return image;
          }},
+        {{"programmable-impostors-frame",
+          "geforce8800 (trace version 2): a moving frame of Dancsik & Minarik (demos/impostors), separated mode at "
+          "48x48: the mover's Depth32F shadow maps and its light map through sampleCompare (scissored), its "
+          "environment impostor in six 90-degree faces of an RGBA16F cube through the static objects' impostors, "
+          "the board and sky, the static glass objects through their refractor maps with the secant search and the "
+          "search from outside in the mover's map (point-sampled cube fetches)"},
+         [](const std::shared_ptr<TraceRecorder>& recorder) {
+             impostors::registerImpostorPrograms();
+             static const impostors::ImpostorScene scene = [] {
+                 impostors::ChessOptions o;
+                 o.segments = 12;
+                 o.sphereSlices = 16;
+                 o.keep = {"white_queen3"};
+                 return impostors::makeChessScene(o);
+             }();
+             impostors::ImpostorRenderer renderer(scene, 1, Path::Reference);
+             impostors::ImpostorSettings s;
+             s.width = s.height = 48;
+             s.envSize = s.refractorSize = 8;
+             s.lightMapSize = 32;
+             s.shadowMapSize = 64;
+             s.mode = impostors::Mode::Separated;
+             renderer.render(scene.closeUp, s);  // every map, made once
+             s.moverU = 0.5f;
+             renderer.device().setRecorder(recorder);
+             renderer.render(scene.closeUp, s);  // the frame the trace holds: the mover moved
+             renderer.device().setRecorder(nullptr);
+             Framebuffer image(48, 48, DepthFormat::None);
+             std::memcpy(static_cast<void*>(image.color().data()),
+                         const_cast<tex::Texture&>(renderer.frameTexture()).renderData8(0, 0),
+                         image.color().size_bytes());
+             return image;
+         }},
     };
     return b;
 }
@@ -806,6 +841,7 @@ const std::vector<GoldenCase>& goldenCases() {
 void registerGoldenPrograms() {
     bench::registerPrograms();
     tir::registerTirPrograms();
+    impostors::registerImpostorPrograms();
 }
 
 std::vector<uint8_t> buildGoldenTrace(const std::string& name, Framebuffer* live) {

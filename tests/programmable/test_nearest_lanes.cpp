@@ -213,5 +213,118 @@ TEST(ProgramFetch, PointSampledFastFetchMatchesTheTapListBitForBit) {
     }
 }
 
+// A cube-map direction from the cases face selection can get wrong: ties between the
+// major axes (|x| = |y|, |x| = |z|, all three), zeros of either sign, NaN, infinities, face
+// edges ± 1 ulp, denormals, and plain random directions.
+glm::vec3 direction(std::mt19937& rng, int size) {
+    const float inf = std::numeric_limits<float>::infinity();
+    auto component = [&](float base) {
+        switch (rng() % 9) {
+            case 0: return std::numeric_limits<float>::quiet_NaN();
+            case 1: return (rng() & 1) ? inf : -inf;
+            case 2: return (rng() & 1) ? 0.0f : -0.0f;
+            case 3: return (rng() & 1) ? 1.0e-40f : -1.0e-40f;
+            case 4: return (rng() & 1) ? base : -base;                              // a tie
+            case 5: return std::nextafter(base, (rng() & 1) ? inf : -inf);          // a near tie
+            default: return std::uniform_real_distribution<float>(-2.0f, 2.0f)(rng);
+        }
+    };
+    if (rng() % 4 == 0) {
+        // On a face: major axis ±1, the others at texel edges ± 1 ulp.
+        auto edge = [&] {
+            const float e = float(int(rng() % (2 * size + 1))) / float(size) - 1.0f;
+            const int dir = int(rng() % 3) - 1;
+            return dir == 0 ? e : std::nextafter(e, dir > 0 ? inf : -inf);
+        };
+        glm::vec3 d(edge(), edge(), edge());
+        d[int(rng() % 3)] = (rng() & 1) ? 1.0f : -1.0f;
+        return d;
+    }
+    const float base = std::uniform_real_distribution<float>(0.1f, 3.0f)(rng);
+    return {component(base), component(base), component(base)};
+}
+
+// NearestFloat2D's cube form (fetchCube; nearestCubeIndices on one quad and on four) against
+// the tap list (tex::programFetch on Path::Reference, which maps through selectCubeFace).
+TEST(ProgramFetch, PointSampledCubeFetchMatchesTheTapListBitForBit) {
+    std::mt19937 rng(1999);
+    tex::TextureMemory memory(profile(ProfileId::GeForce8800));
+    const TexelFormat formats[] = {TexelFormat::R32F, TexelFormat::RGBA32F, TexelFormat::RGBA16F};
+    const int sizes[] = {1, 2, 3, 5, 8, 16, 24, 64};
+    int compared = 0;
+    for (int tcase = 0; tcase < 48; ++tcase) {
+        tex::TextureDesc d;
+        d.target = tex::TextureTarget::CubeMap;
+        d.format = formats[rng() % 3];
+        d.width = d.height = sizes[rng() % 8];
+        auto t = memory.create(d);
+        const int bpt = tex::formatInfo(d.format).bytesPerTexel;
+        for (int f = 0; f < 6; ++f) {
+            std::vector<uint8_t> b(size_t(d.width) * size_t(d.height) * size_t(bpt));
+            if (bpt == 8) {
+                for (size_t i = 0; i < b.size() / 2; ++i) {
+                    const uint16_t h = uint16_t(rng() & 0xFBFF);
+                    std::memcpy(&b[i * 2], &h, 2);
+                }
+            } else {
+                for (size_t i = 0; i < b.size() / 4; ++i) {
+                    const float v = (i % 7 == 0) ? -0.0f : float(int(rng() % 4001) - 2000) / 997.0f;
+                    std::memcpy(&b[i * 4], &v, 4);
+                }
+            }
+            memory.upload(*t, 0, f, b);
+        }
+        tex::SamplerState s;
+        s.magFilter = s.minFilter = tex::FilterMode::Nearest;
+        s.address[0] = (rng() & 1) ? AddressMode::Wrap : AddressMode::Border;  // cube maps clamp anyway
+        const detail::NearestFloat2D n = detail::nearestFloat2D(t.get(), s);
+        ASSERT_TRUE(n.valid() && n.cube && !n.lanes4) << "case " << tcase;
+        constexpr int kQuads = 4;
+        __m128 x[kQuads], y[kQuads], z[kQuads], live[kQuads];
+        glm::vec4 want[4 * kQuads];
+        uint32_t liveBits[kQuads];
+        for (int q = 0; q < kQuads; ++q) {
+            alignas(16) float xs[4], ys[4], zs[4];
+            for (int lane = 0; lane < 4; ++lane) {
+                const int i = 4 * q + lane;
+                const glm::vec3 dir = direction(rng, d.width);
+                xs[lane] = dir.x, ys[lane] = dir.y, zs[lane] = dir.z;
+                uint32_t fetches = 0;
+                want[i] = tex::programFetch(*t, s, glm::vec4(dir, 0.0f), tex::programLambdaLod(s, 0.0f), Path::Reference,
+                                            fetches);
+                const glm::vec4 got = n.fetchCube(dir);
+                ASSERT_TRUE(sameBits(got, want[i])) << "fetchCube, case " << tcase << " at (" << dir.x << ", " << dir.y
+                                                    << ", " << dir.z << "): " << show(got) << " want " << show(want[i]);
+                ++compared;
+            }
+            x[q] = _mm_load_ps(xs), y[q] = _mm_load_ps(ys), z[q] = _mm_load_ps(zs);
+            liveBits[q] = rng() % 16;
+            live[q] = Mask4::fromBits(liveBits[q]).v;
+        }
+        __m128i idx[kQuads];
+        __m128 rx[kQuads], ry[kQuads], rz[kQuads], rw[kQuads];
+        detail::nearestCubeIndices<kQuads>(n, x, y, z, idx);
+        detail::nearestLoads<kQuads>(n, idx, live, rx, ry, rz, rw);
+        __m128i idx1[1];
+        __m128 x1[1] = {x[2]}, y1[1] = {y[2]}, z1[1] = {z[2]}, live1[1] = {live[2]}, o[4][1];
+        detail::nearestCubeIndices<1>(n, x1, y1, z1, idx1);
+        detail::nearestLoads<1>(n, idx1, live1, o[0], o[1], o[2], o[3]);
+        for (int q = 0; q < kQuads; ++q) {
+            const Vec4x4 r{Float4{rx[q]}, Float4{ry[q]}, Float4{rz[q]}, Float4{rw[q]}};
+            const Vec4x4 r1{Float4{o[0][0]}, Float4{o[1][0]}, Float4{o[2][0]}, Float4{o[3][0]}};
+            for (int lane = 0; lane < 4; ++lane) {
+                const glm::vec4 expect = ((liveBits[q] >> lane) & 1u) ? want[4 * q + lane] : glm::vec4(0.0f);
+                ASSERT_TRUE(sameBits(r.lane(lane), expect))
+                    << "nearestCubeIndices<4>, case " << tcase << " lane " << 4 * q + lane << ": " << show(r.lane(lane))
+                    << " want " << show(expect);
+                if (q == 2) {
+                    ASSERT_TRUE(sameBits(r1.lane(lane), expect)) << "nearestCubeIndices<1>, case " << tcase;
+                }
+            }
+        }
+    }
+    EXPECT_GT(compared, 700);
+}
+
 }  // namespace
 }  // namespace rg::raster

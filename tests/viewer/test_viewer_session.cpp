@@ -355,3 +355,101 @@ TEST(ViewerProgrammable, TheTirFrameIsHandedOverAsItIsAndItsMapsAreInspected) {
     }
     EXPECT_EQ(s.profile(), "geforce8800");
 }
+
+// Dancsik & Minarik in the viewer: the impostors demo's frame is handed over as it is, the
+// mode, DEPTH and the mover's place are live, its maps are inspected, and only geforce8800
+// runs it.
+#include "impostor_demo.h"
+
+TEST(ViewerProgrammable, TheImpostorFrameIsHandedOverAsItIsAndTheMoverMovesLive) {
+    rg::viewer::DemoOptions o;
+    o.scene = "mirror-sphere";  // the sphere moves (a clear cube in a white world would look the same anywhere)
+    o.threads = 2;
+    auto demo = std::make_unique<rg::impostors::ImpostorDemo>(o);
+    rg::impostors::ImpostorDemo* imp = demo.get();
+    ViewerSession s(std::move(demo), "", 2);
+    EXPECT_EQ(s.profile(), "geforce8800");
+    s.apply({Action::Kind::Param, 0, 0, 0, "env_size"});  // 64²: a short test
+    s.apply({Action::Kind::Param, 0, 0, 1, "depth"});
+    s.render(true);
+    // The framebuffer holds the programmable frame byte for byte: the same settings on a
+    // renderer of its own give the same bytes.
+    const rg::impostors::ImpostorScene scene = rg::impostors::impostorSceneFromFile("mirror-sphere");
+    rg::impostors::ImpostorRenderer r(scene, 1);
+    r.render(s.camera().camera(), imp->settings());
+    const rg::Rgba8* px = const_cast<rg::tex::Texture&>(r.frameTexture()).renderData8(0, 0);
+    const auto& fb = s.device().framebuffer();
+    ASSERT_EQ(fb.width(), 600);
+    int differ = 0;
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x) {
+            const rg::Rgba8 a = fb.pixel(x, y), b = px[size_t(y) * size_t(fb.width()) + size_t(x)];
+            differ += (a.r != b.r || a.g != b.g || a.b != b.b || a.a != b.a) ? 1 : 0;
+        }
+    EXPECT_EQ(differ, 0);
+    // The inspector: the maps of the frame, then the hand-over pass; the mover's distance
+    // impostor holds distances (the room's walls around the sphere).
+    const auto& snaps = s.passSnapshots();
+    ASSERT_GE(snaps.size(), 4u);
+    int distances = 0;
+    std::string labels;
+    for (const auto& sn : snaps) {
+        EXPECT_EQ(sn.color.size(), size_t(fb.width()) * size_t(fb.height()));
+        labels += sn.record.label + "; ";
+        if (sn.record.label.find("distance") != std::string::npos && sn.image.kind == TargetImage::Kind::Depth)
+            for (const glm::vec4& v : sn.image.values) distances += v.x > 0.0f ? 1 : 0;
+    }
+    EXPECT_GT(distances, 1000) << labels;
+    // The mover's place and the mode change the frame; the settings follow the parameters.
+    const uint64_t first = s.frameHash();
+    s.apply({Action::Kind::Param, 0, 0, 1.0, "mover"});
+    s.render(false);
+    EXPECT_EQ(imp->settings().moverU, 1.0f);
+    EXPECT_NE(s.frameHash(), first);
+    // - steps the moving piece back a twentieth of its path (its only Float parameter).
+    const auto back = rg::viewer::nudgeAction(imp->params(), -1);
+    ASSERT_TRUE(back.has_value());
+    EXPECT_EQ(back->name, "mover");
+    s.apply(*back);
+    EXPECT_FLOAT_EQ(imp->settings().moverU, 0.95f);
+    s.apply({Action::Kind::Param, 0, 0, 1, "mode"});
+    EXPECT_EQ(imp->settings().mode, rg::impostors::Mode::Classical);
+    try {
+        s.apply({Action::Kind::Profile, 0, 0, 0, "geforce256"});
+        FAIL() << "impostors cannot run on a GeForce 256";
+    } catch (const rg::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("geforce8800"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(s.profile(), "geforce8800");
+}
+
+// -/= and the d-pad step the first Float parameter by a twentieth of its range, clamped, as
+// a Param action (so a recording replays it); a demo without one gets nothing.
+TEST(ViewerNudge, TheFirstFloatParameterStepsWithinItsRange) {
+    using rg::viewer::Param;
+    std::vector<Param> params(3);
+    params[0] = {"n", "n", "", Param::Kind::Int, 3, 0, 10, {}};
+    params[1] = {"u", "u", "", Param::Kind::Float, 0.5, 0, 2, {}};
+    params[2] = {"v", "v", "", Param::Kind::Float, 0.0, 0, 1, {}};
+    auto a = rg::viewer::nudgeAction(params, 1);
+    ASSERT_TRUE(a.has_value());
+    EXPECT_EQ(a->kind, Action::Kind::Param);
+    EXPECT_EQ(a->name, "u");
+    EXPECT_DOUBLE_EQ(a->value, 0.6);
+    params[1].value = 1.95;
+    EXPECT_DOUBLE_EQ(rg::viewer::nudgeAction(params, 1)->value, 2.0);  // clamped at max
+    params[1].value = 0.05;
+    EXPECT_DOUBLE_EQ(rg::viewer::nudgeAction(params, -1)->value, 0.0);  // and at min
+    params.erase(params.begin() + 1, params.end());
+    EXPECT_FALSE(rg::viewer::nudgeAction(params, 1).has_value());
+    // The d-pad: a press to the right or left steps once; holding it or up/down does not.
+    pad::PadState idle, right, left, up;
+    right.hat = 2;
+    left.hat = 6;
+    up.hat = 0;
+    EXPECT_EQ(rg::viewer::padNudge(right, idle), 1);
+    EXPECT_EQ(rg::viewer::padNudge(left, idle), -1);
+    EXPECT_EQ(rg::viewer::padNudge(right, right), 0);
+    EXPECT_EQ(rg::viewer::padNudge(up, idle), 0);
+    EXPECT_EQ(rg::viewer::padNudge(idle, right), 0);
+}

@@ -6,7 +6,8 @@
 # the framebuffer region to equal that frame's RGB.
 #
 #   viewer_under_xvfb.sh RETROGLASS PNG_COMPARE WORKDIR [DEMO WIDTH HEIGHT [SCENE]]
-# DEMO defaults to pem at 640×480; tir (the programmable profile) runs at 512×512.
+# DEMO defaults to pem at 640×480; tir (the programmable profile) runs at 512×512,
+# impostors at 600×600 (and must record the mover stepped by = and -).
 # WORKDIR (the build folder's, so never another checkout's) keeps out/pem, the quick
 # precompute made by the first run and read by the later ones, and run-PID/, this run's
 # recording, screenshots and replay: removed when the run passes, kept when it fails.
@@ -70,6 +71,8 @@ xdotool windowfocus --sync "$wid"
 # Between two samples (3 passes), a sample step, off the plane of the samples; a left
 # drag (orbit) and a wheel notch (dolly) over the framebuffer; a screenshot.
 xdotool key --delay 50 Right Right Page_Up Right Up Up
+# - and = step the demo's first continuous parameter (impostors: the moving piece).
+xdotool key --delay 50 equal equal minus
 xdotool mousemove --window "$wid" 320 240 mousedown 1 mousemove --window "$wid" 300 230 \
     mousemove --window "$wid" 290 236 mouseup 1 click 4
 xdotool key --delay 50 F12 Escape
@@ -79,6 +82,9 @@ cat "$run"/view.log
 
 grep -q " screenshot$" "$run"/input.txt || fail "no screenshot in the recording (keys not delivered?)"
 grep -q " orbit " "$run"/input.txt || fail "no orbit in the recording (keys not delivered?)"
+if [ "$demo" = impostors ]; then
+    grep -q " param mover " "$run"/input.txt || fail "no mover step in the recording (- and = not bound?)"
+fi
 grep -q " dolly " "$run"/input.txt || fail "no dolly in the recording (wheel not delivered?)"
 shot=$(ls "$run"/shots/"${demo}"_*.png | grep -v _window | head -1)
 frame=$(basename "$shot" .png | sed "s/${demo}_//")

@@ -38,6 +38,7 @@
 
 #include "core/path.h"
 #include "rasterizer/state.h"
+#include "texunit/cube_mapping.h"
 #include "texunit/sampler.h"
 #include "texunit/texture.h"
 
@@ -139,6 +140,11 @@ inline int nearestTexel(float c, int n, bool wrap) {
 // the base level, so the fetch needs no level of detail. The depth and normal maps of the
 // image-space searches (tir, impostors) are read this way, many times per fragment; the
 // result is the tap-list reference's bit for bit (tests/programmable/).
+//
+// Cube maps point-sampled the same way (`cube`): the face and (s, t) of
+// tex::selectCubeFace, then ⌊s·n⌋ and ⌊t·n⌋ clamped to the face (cube maps clamp to their
+// edges whatever the address mode); the faces of the base level lie one after another
+// (faceTexels apart). The distance impostors of Dancsik & Minarik are read this way.
 struct NearestFloat2D {
     const glm::vec4* data4 = nullptr;  // base level, row-major (RGBA16F, RGBA32F), or
     const float* data1 = nullptr;      // (R16F, R32F, depth); both null: not this case
@@ -159,8 +165,18 @@ struct NearestFloat2D {
         int32_t mask = 0;
     };
     Axis axisS, axisT;
+    bool cube = false;
+    size_t faceTexels = 0;  // cube: texels per face (the next face's offset)
     bool valid() const { return data4 || data1; }
     // The tap list's Σ 1·texel in double is the texel itself, with −0 turned into +0.
+    glm::vec4 fetchCube(const glm::vec3& dir) const {
+        const tex::CubeCoord cc = tex::selectCubeFace(dir);
+        const int x = nearestTexel(cc.s, width, false), y = nearestTexel(cc.t, height, false);
+        const size_t i = size_t(int(cc.face)) * faceTexels + size_t(y) * size_t(width) + size_t(x);
+        if (data4) return data4[i] + glm::vec4(0.0f);
+        const float v = data1[i] + 0.0f;
+        return depth ? glm::vec4(v, v, v, 1.0f) : glm::vec4(v, 0.0f, 0.0f, 1.0f);
+    }
     glm::vec4 fetch(float s, float t) const {
         const int x = nearestTexel(s, width, wrapS);
         const int y = height == 1 ? 0 : nearestTexel(t, height, wrapT);
@@ -230,7 +246,7 @@ class FragmentContext {
         const detail::BoundUnit& b = this->unit(unit);
         if (b.nearest.valid() && setup_->path == Path::Fast) {
             ++fetches_;
-            return b.nearest.fetch(c.x, c.y);
+            return b.nearest.cube ? b.nearest.fetchCube(glm::vec3(c)) : b.nearest.fetch(c.x, c.y);
         }
         return sampleLevelFiltered(b, c, lod);
     }

@@ -233,6 +233,61 @@ template <int N>
     }
 }
 
+// NearestFloat2D::fetchCube's texel indices at 4N lanes' directions (x, y, z): the face of
+// tex::selectCubeFace — X where |x| ≥ |y| and |x| ≥ |z|, else Y where |y| ≥ |z|, else Z, the
+// sign's face where the component is ≥ 0 (−0 included; NaN compares false as in the scalar
+// code) — its (sc, tc, ma) row of the ARB_texture_cube_map table, s = (sc/|ma| + 1)·½ and
+// t = (tc/|ma| + 1)·½ (the face centre where |ma| is not > 0), then the clamped texels of
+// nearestTexels and face·n² + y·n + x.
+template <int N>
+[[gnu::always_inline]] inline void nearestCubeIndices(const NearestFloat2D& n, const __m128 (&x)[N],
+                                                      const __m128 (&y)[N], const __m128 (&z)[N], __m128i (&idx)[N]) {
+    const __m128 sign = _mm_set1_ps(-0.0f), zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
+    auto sel = [](__m128 m, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); };
+    __m128 s[N], t[N];
+    __m128i face[N];
+#pragma GCC unroll 8
+    for (int i = 0; i < N; ++i) {
+        const __m128 ax = _mm_andnot_ps(sign, x[i]), ay = _mm_andnot_ps(sign, y[i]), az = _mm_andnot_ps(sign, z[i]);
+        const __m128 isX = _mm_and_ps(_mm_cmpge_ps(ax, ay), _mm_cmpge_ps(ax, az));
+        const __m128 isY = _mm_andnot_ps(isX, _mm_cmpge_ps(ay, az));
+        const __m128 isZ = _mm_andnot_ps(_mm_or_ps(isX, isY), _mm_castsi128_ps(_mm_set1_epi32(-1)));
+        const __m128 px = _mm_cmpge_ps(x[i], zero), py = _mm_cmpge_ps(y[i], zero), pz = _mm_cmpge_ps(z[i], zero);
+        const __m128 nx = _mm_xor_ps(x[i], sign), ny = _mm_xor_ps(y[i], sign), nz = _mm_xor_ps(z[i], sign);
+        // sc: X ±: −z / z; Y: x; Z ±: x / −x.   tc: X: −y; Y ±: z / −z; Z: −y.
+        const __m128 sc = sel(isX, sel(px, nz, z[i]), sel(isY, x[i], sel(pz, x[i], nx)));
+        const __m128 tc = sel(isY, sel(py, z[i], nz), ny);
+        const __m128 ma = sel(isX, x[i], sel(isY, y[i], z[i]));
+        const __m128 a = _mm_andnot_ps(sign, ma);
+        const __m128 ok = _mm_cmpgt_ps(a, zero);
+        s[i] = sel(ok, _mm_mul_ps(_mm_add_ps(_mm_div_ps(sc, a), one), half), half);
+        t[i] = sel(ok, _mm_mul_ps(_mm_add_ps(_mm_div_ps(tc, a), one), half), half);
+        // Face numbers (tex::CubeFace): +X 0, −X 1, +Y 2, −Y 3, +Z 4, −Z 5.
+        const __m128i neg = _mm_castps_si128(sel(isX, _mm_andnot_ps(px, _mm_castsi128_ps(_mm_set1_epi32(1))),
+                                                 sel(isY, _mm_andnot_ps(py, _mm_castsi128_ps(_mm_set1_epi32(1))),
+                                                     _mm_andnot_ps(pz, _mm_castsi128_ps(_mm_set1_epi32(1))))));
+        const __m128i axis = _mm_or_si128(_mm_and_si128(_mm_castps_si128(isY), _mm_set1_epi32(2)),
+                                          _mm_and_si128(_mm_castps_si128(isZ), _mm_set1_epi32(4)));
+        face[i] = _mm_add_epi32(axis, neg);
+    }
+    __m128i tx[N], ty[N];
+    nearestTexels<N>(s, n.width, false, tx);
+    nearestTexels<N>(t, n.height, false, ty);
+    // face·n² + y·n + x, below 2^31 (six faces of the level); PMULUDQ on even and odd lanes
+    // where the width is not a power of two.
+    auto mul = [](__m128i v, int k) {
+        const __m128i w = _mm_set1_epi32(k);
+        const __m128i even = _mm_mul_epu32(v, w), odd = _mm_mul_epu32(_mm_srli_epi64(v, 32), w);
+        return _mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
+                                  _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)));
+    };
+#pragma GCC unroll 8
+    for (int i = 0; i < N; ++i) {
+        const __m128i row = n.widthShift >= 0 ? _mm_sll_epi32(ty[i], _mm_cvtsi32_si128(n.widthShift)) : mul(ty[i], n.width);
+        idx[i] = _mm_add_epi32(_mm_add_epi32(mul(face[i], int(n.faceTexels)), row), tx[i]);
+    }
+}
+
 // NearestFloat2D::fetch at the texel indices, lanes outside `live` zero. Every index is
 // inside the level (addressing saw to it), so all four of a quad are read without a
 // branch. The tap sum's 0 + texel turns −0 into +0.
@@ -305,12 +360,17 @@ class QuadContext {
     // hardware: a lane that has left a loop fetches (and counts) nothing.
     Vec4x4 sampleLevel(int unit, const Vec4x4& c, Float4 lod, Mask4 m = Mask4::fromBits(15)) {
         const detail::BoundUnit& b = this->unit(unit);
-        if (b.nearest.lanes4 && setup_->path == Path::Fast) {
+        if ((b.nearest.lanes4 || b.nearest.cube) && setup_->path == Path::Fast) {
             const __m128 s[1] = {c.x.v}, t[1] = {c.y.v};
             const __m128 live[1] = {liveLanes(m)};
             __m128i idx[1];
             __m128 x[1], y[1], z[1], w[1];
-            detail::nearestIndices<1>(b.nearest, s, t, idx);
+            if (b.nearest.cube) {
+                const __m128 r[1] = {c.z.v};
+                detail::nearestCubeIndices<1>(b.nearest, s, t, r, idx);
+            } else {
+                detail::nearestIndices<1>(b.nearest, s, t, idx);
+            }
             detail::nearestLoads<1>(b.nearest, idx, live, x, y, z, w);
             return Vec4x4(Float4(x[0]), Float4(y[0]), Float4(z[0]), Float4(w[0]));
         }
@@ -563,7 +623,7 @@ class QuadGroupContext {
     // Inlined into the program whatever its size: the quads' chains interleave only there.
     [[gnu::always_inline]] Vec4 sampleLevel(int unit, const Vec4& c, const Float& lod, const Mask& m = Mask::allLanes()) {
         const detail::BoundUnit& b = quads_[0].unit(unit);
-        if (!(b.nearest.lanes4 && quads_[0].setup_->path == Path::Fast)) [[unlikely]] {
+        if (!((b.nearest.lanes4 || b.nearest.cube) && quads_[0].setup_->path == Path::Fast)) [[unlikely]] {
             // Copied on this branch only, into storage the compiler cannot move stores
             // to (a thread's own): the caller's temporaries are only read, so they stay
             // in registers on the fast path.
@@ -583,7 +643,13 @@ class QuadGroupContext {
         }
         __m128i idx[N];
         __m128 x[N], y[N], z[N], w[N];
-        detail::nearestIndices<N>(b.nearest, s, t, idx);
+        if (b.nearest.cube) {
+            __m128 r[N];
+            for (int i = 0; i < N; ++i) r[i] = c.z.q[size_t(i)].v;
+            detail::nearestCubeIndices<N>(b.nearest, s, t, r, idx);
+        } else {
+            detail::nearestIndices<N>(b.nearest, s, t, idx);
+        }
         detail::nearestLoads<N>(b.nearest, idx, live, x, y, z, w);
         auto lanes = [](const __m128(&v)[N]) { return FloatQ<N>::fromQuads([&](int i) { return Float4(v[i]); }); };
         return Vec4(lanes(x), lanes(y), lanes(z), lanes(w));

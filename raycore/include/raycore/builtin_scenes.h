@@ -37,11 +37,14 @@ uint32_t addRoom(Scene& scene, glm::vec3 lo, glm::vec3 hi, const std::string& pr
 uint32_t addCup(Scene& scene, uint32_t material, const glm::mat4& transform);
 void addColumnRing(Scene& scene, glm::vec3 center, float radius, int count, float height,
                    uint32_t material);
-void addChessSet(Scene& scene, uint32_t whiteGlass, uint32_t blackGlass);
+// The 32 pieces on their squares (white on ranks 1–2 at z < 0), lathes of `segments`.
+void addChessSet(Scene& scene, uint32_t whiteGlass, uint32_t blackGlass, int segments = 40);
 // The 8×8 board: a slab 8·squareSize wide whose top face carries uvs [0,1]² (a checker
 // texture with scale 8 draws the squares), top face at y = 0.
 Mesh makeChessboard(float squareSize);
-// The six lathe profiles and the knight (lathe base + extruded head), height ≈ 1.
-Mesh makeChessPiece(const std::string& kind);  // pawn rook knight bishop queen king
+// The six lathe profiles and the knight (lathe base + extruded head), height ≈ 1, the
+// lathes with `segments` around the axis (the built-in scene's 40; the impostors
+// reproduction picks the count that matches its paper's triangle count).
+Mesh makeChessPiece(const std::string& kind, int segments = 40);  // pawn rook knight bishop queen king
 
 }  // namespace rg::ray
