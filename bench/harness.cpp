@@ -225,6 +225,28 @@ int run(const Options& options, const char* argv0) {
                               {"ratio", ratio}});
         }
     }
+    // Thread scaling: each workload on all threads over the same on one (issue 21: the
+    // per-view precompute's 1-thread vs all-threads ratio).
+    nlohmann::json scaling = nlohmann::json::array();
+    const std::string allSuffix = "/threads:" + std::to_string(allThreads());
+    for (const auto& [name, all] : throughput) {
+        if (allThreads() < 2 || name.size() <= allSuffix.size() ||
+            name.compare(name.size() - allSuffix.size(), allSuffix.size(), allSuffix) != 0)
+            continue;
+        const std::string base = name.substr(0, name.size() - allSuffix.size());
+        auto one = throughput.find(base + "/threads:1");
+        if (one == throughput.end() || one->second <= 0) continue;
+        if (scaling.empty())
+            std::printf("\n%-60s %14s %14s %8s\n", "workload (all threads vs 1)", "all items/s",
+                        "1 items/s", "speed-up");
+        std::printf("%-60s %14.4g %14.4g %8.2f\n", name.c_str(), all, one->second,
+                    all / one->second);
+        scaling.push_back({{"benchmark", base},
+                           {"threads", allThreads()},
+                           {"all_items_per_second", all},
+                           {"one_items_per_second", one->second},
+                           {"speedup", all / one->second}});
+    }
     nlohmann::json oursOnly = nlohmann::json::array();
     for (const OursOnly& o : gOursOnly) {
         std::printf("%-60s ours only: %s\n", o.workload.c_str(), o.why.c_str());
@@ -236,6 +258,7 @@ int run(const Options& options, const char* argv0) {
         out["repetitions"] = options.repetitions;
         out["samples_items_per_second"] = reporter.samples;  // each repetition's, in run order
         out["ratios"] = ratios;
+        out["thread_scaling"] = scaling;
         out["ours_only"] = oursOnly;
         std::ofstream f(options.jsonPath);
         if (!f) {

@@ -6,10 +6,124 @@
 #include <memory>
 #include <mutex>
 #include <tuple>
+#include <type_traits>
 
 #include <Eigen/IterativeLinearSolvers>
+#include <tbb/parallel_for.h>
 
 #include "core/error.h"
+
+// ---- the normal matrix as conjugate gradient sees it: y = H p on every core ----------------
+//
+// CG spends its time in y = H p (one per iteration). Eigen computes it row by row, each row
+// a sum over its entries in storage order; here fixed blocks of rows are handed to TBB, and
+// every row is still one thread's sum in that same order. No sum crosses a row, so y — and
+// with it every iterate, every texel — is the same in every bit for any thread count. The
+// dot products and updates between the products stay Eigen's, on one thread. (Eigen's own
+// parallel product needs OpenMP, a second thread pool beside TBB's.)
+namespace rg::pem {
+namespace {
+class RowParallelNormalMatrix;
+}
+}  // namespace rg::pem
+
+namespace Eigen::internal {
+template <>
+struct traits<rg::pem::RowParallelNormalMatrix>
+    : public Eigen::internal::traits<Eigen::SparseMatrix<double>> {};
+}  // namespace Eigen::internal
+
+namespace rg::pem {
+namespace {
+
+// Rows per TBB task: fixed, so the split never depends on the thread count (it could not
+// change the result anyway, each row being summed whole; it keeps tasks ~50 µs).
+constexpr int64_t kRowsPerTask = 4096;
+
+class RowParallelNormalMatrix : public Eigen::EigenBase<RowParallelNormalMatrix> {
+  public:
+    using Scalar = double;
+    using RealScalar = double;
+    using StorageIndex = int;
+    enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
+
+    // H must be symmetric: column i of the column-major matrix is row i.
+    explicit RowParallelNormalMatrix(const Eigen::SparseMatrix<double>& H) : H_(&H) {}
+    Eigen::Index rows() const { return H_->rows(); }
+    Eigen::Index cols() const { return H_->cols(); }
+    const Eigen::SparseMatrix<double>& matrix() const { return *H_; }
+
+    template <class Rhs>
+    Eigen::Product<RowParallelNormalMatrix, Rhs, Eigen::AliasFreeProduct> operator*(
+        const Eigen::MatrixBase<Rhs>& x) const {
+        return Eigen::Product<RowParallelNormalMatrix, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
+    }
+
+    // y += alpha · H x
+    void multiplyAdd(const Eigen::Ref<const Eigen::VectorXd>& x, double* y, double alpha) const {
+        const Eigen::SparseMatrix<double>& H = *H_;
+        const int64_t n = H.outerSize();
+        const double* values = H.valuePtr();
+        const int* inner = H.innerIndexPtr();
+        const int* outer = H.outerIndexPtr();
+        const double* xs = x.data();
+        tbb::parallel_for(int64_t(0), (n + kRowsPerTask - 1) / kRowsPerTask, [&](int64_t block) {
+            const int64_t end = std::min(n, (block + 1) * kRowsPerTask);
+            for (int64_t i = block * kRowsPerTask; i < end; ++i) {
+                double sum = 0.0;
+                for (int k = outer[i]; k < outer[i + 1]; ++k) sum += values[k] * xs[inner[k]];
+                y[i] += alpha * sum;
+            }
+        });
+    }
+
+  private:
+    const Eigen::SparseMatrix<double>* H_;
+};
+
+// Jacobi, as Eigen's DiagonalPreconditioner (1 / H_ii, 1 where the diagonal is 0), for an
+// operator that is not a sparse matrix itself.
+class JacobiPreconditioner {
+  public:
+    template <class M> JacobiPreconditioner& analyzePattern(const M&) { return *this; }
+    template <class M> JacobiPreconditioner& factorize(const M& m) { return compute(m); }
+    template <class M> JacobiPreconditioner& compute(const M& m) {
+        invDiagonal_ = m.matrix().diagonal();
+        for (Eigen::Index i = 0; i < invDiagonal_.size(); ++i)
+            invDiagonal_[i] = invDiagonal_[i] != 0.0 ? 1.0 / invDiagonal_[i] : 1.0;
+        return *this;
+    }
+    template <class Rhs> Eigen::VectorXd solve(const Rhs& b) const {
+        return invDiagonal_.cwiseProduct(b);
+    }
+    Eigen::ComputationInfo info() const { return Eigen::Success; }
+
+  private:
+    Eigen::VectorXd invDiagonal_;
+};
+
+}  // namespace
+}  // namespace rg::pem
+
+namespace Eigen::internal {
+template <class Rhs>
+struct generic_product_impl<rg::pem::RowParallelNormalMatrix, Rhs, SparseShape, DenseShape, GemvProduct>
+    : generic_product_impl_base<rg::pem::RowParallelNormalMatrix, Rhs,
+                                generic_product_impl<rg::pem::RowParallelNormalMatrix, Rhs>> {
+    template <class Dest>
+    static void scaleAndAddTo(Dest& dst, const rg::pem::RowParallelNormalMatrix& lhs,
+                              const Rhs& rhs, const double& alpha) {
+        const Eigen::Ref<const Eigen::VectorXd> x(rhs);  // no copy for CG's plain vectors
+        if constexpr (std::is_same_v<Dest, Eigen::VectorXd>) {
+            lhs.multiplyAdd(x, dst.data(), alpha);
+        } else {
+            Eigen::VectorXd y = dst;
+            lhs.multiplyAdd(x, y.data(), alpha);
+            dst = y;
+        }
+    }
+};
+}  // namespace Eigen::internal
 
 namespace rg::pem {
 
@@ -90,12 +204,11 @@ std::shared_ptr<const Eigen::SparseMatrix<double>> cachedRegulariser(const Texel
     static std::map<std::tuple<int, int, double, double>,
                     std::shared_ptr<const Eigen::SparseMatrix<double>>> cache;
     auto key = std::make_tuple(L.baseSize, L.faces, o.smoothness, o.levelCoupling);
-    {
-        std::lock_guard lock(mutex);
-        if (auto it = cache.find(key); it != cache.end()) return it->second;
-    }
-    auto R = std::make_shared<const Eigen::SparseMatrix<double>>(regulariser(L, o));
+    // Built under the lock: the systems of a view are built side by side and all need the
+    // same R, so the others wait for it rather than each building their own.
     std::lock_guard lock(mutex);
+    if (auto it = cache.find(key); it != cache.end()) return it->second;
+    auto R = std::make_shared<const Eigen::SparseMatrix<double>>(regulariser(L, o));
     return cache.emplace(key, R).first->second;
 }
 
@@ -178,10 +291,12 @@ Eigen::VectorXd InferenceSystem::solve(const std::vector<Eigen::VectorXd>& bs,
             H = &Hp;
             rp += pinWeight.cwiseProduct(pinValue);
         }
-        Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+        const RowParallelNormalMatrix op(*H);
+        Eigen::ConjugateGradient<RowParallelNormalMatrix, Eigen::Lower | Eigen::Upper,
+                                 JacobiPreconditioner> cg;
         cg.setMaxIterations(o.maxIterations);
         cg.setTolerance(o.tolerance);
-        cg.compute(*H);
+        cg.compute(op);
         x = cg.solveWithGuess(rp, x);
         s.iterations += int(cg.iterations());
         // Texels outside [0, 1] cannot be stored in an 8-bit texture: pin them to the bound

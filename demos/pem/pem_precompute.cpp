@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "core/error.h"
 #include "raycore/counters.h"
@@ -104,23 +105,27 @@ ViewSample precomputeView(const ray::Accel& accel, PemRenderer& renderer, int vi
     auto runJobs = [&](std::vector<SolveJob>& jobs,
                        const std::vector<const RenderingMatrix*>& matrices) {
         // One system per distinct matrix, shared by its channels; both built and solved in
-        // parallel — each result depends only on its own inputs, so the bytes cannot change.
-        std::vector<std::unique_ptr<InferenceSystem>> systems(matrices.size());
-        tbb::parallel_for(size_t(0), matrices.size(), [&](size_t i) {
-            systems[i] = std::make_unique<InferenceSystem>(*matrices[i], settings.inference);
-        });
-        tbb::parallel_for(size_t(0), jobs.size(), [&](size_t j) {
-            SolveJob& job = jobs[j];
-            size_t si = size_t(std::find(matrices.begin(), matrices.end(), job.m) - matrices.begin());
-            Eigen::VectorXd b(int64_t(job.m->rowPixel.size()));
-            for (size_t r = 0; r < job.m->rowPixel.size(); ++r)
-                b[int64_t(r)] = job.value(job.m->rowPixel[r]);
-            Eigen::VectorXd x = systems[si]->solve(b, &job.stats);
-            for (int64_t i = 0; i < x.size(); ++i) {
-                uint8_t v = ray::quantize8(float(x[i]));
-                Rgba8& t = job.out->texels[size_t(i)];
-                (job.channel == 0 ? t.r : job.channel == 1 ? t.g : job.channel == 2 ? t.b : t.a) = v;
-            }
+        // parallel, and each solve's products on every core too (inference.cpp) — each result
+        // depends only on its own inputs, so the bytes cannot change with the thread count.
+        tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+        arena.execute([&] {
+            std::vector<std::unique_ptr<InferenceSystem>> systems(matrices.size());
+            tbb::parallel_for(size_t(0), matrices.size(), [&](size_t i) {
+                systems[i] = std::make_unique<InferenceSystem>(*matrices[i], settings.inference);
+            });
+            tbb::parallel_for(size_t(0), jobs.size(), [&](size_t j) {
+                SolveJob& job = jobs[j];
+                size_t si = size_t(std::find(matrices.begin(), matrices.end(), job.m) - matrices.begin());
+                Eigen::VectorXd b(int64_t(job.m->rowPixel.size()));
+                for (size_t r = 0; r < job.m->rowPixel.size(); ++r)
+                    b[int64_t(r)] = job.value(job.m->rowPixel[r]);
+                Eigen::VectorXd x = systems[si]->solve(b, &job.stats);
+                for (int64_t i = 0; i < x.size(); ++i) {
+                    uint8_t v = ray::quantize8(float(x[i]));
+                    Rgba8& t = job.out->texels[size_t(i)];
+                    (job.channel == 0 ? t.r : job.channel == 1 ? t.g : job.channel == 2 ? t.b : t.a) = v;
+                }
+            });
         });
         for (const SolveJob& j : jobs) vs.stats.push_back(j.stats);
     };

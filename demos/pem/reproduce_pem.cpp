@@ -18,6 +18,7 @@
 #include "core/progress.h"
 #include "figures.h"
 #include "report.h"
+#include "shards.h"
 #include "pem_assets.h"
 #include "pem_precompute.h"
 #include "raycore/builtin_scenes.h"
@@ -98,6 +99,20 @@ ray::Image layerImage(const ray::PemLayerImages& layers, int which) {
 
 }  // namespace
 
+int emResolutionFor(PemRenderer& renderer, const ray::Camera& camera, const PemSettings& S,
+                    int* finestAccessed) {
+    int finest = 0;
+    for (size_t p = 0; p < renderer.scene().parts.size(); ++p)
+        for (EmLayer layer : {EmLayer::Distant, EmLayer::Local}) {
+            RenderingMatrix probe = buildMatrixByInstrumentedPass(renderer.device(), renderer,
+                                                                  camera, p, layer, S.emProbeSize);
+            int l = probe.finestLevelAccessed();
+            if (l >= 0) finest = std::max(finest, S.emProbeSize >> l);
+        }
+    if (finestAccessed) *finestAccessed = finest;
+    return std::max(8, std::min(S.emSize, finest > 0 ? finest : S.emSize));
+}
+
 nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     const auto tStart = Clock::now();
     const fs::path out = options.outDir;
@@ -132,14 +147,7 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     const int kView = std::max(0, S.views / 2 - 1);  // the evaluation sample
     const ray::Camera camK = path.at(uint32_t(kView));
     int finestAccessedRes = 0;
-    for (size_t p = 0; p < ps.parts.size(); ++p)
-        for (EmLayer layer : {EmLayer::Distant, EmLayer::Local}) {
-            RenderingMatrix probe =
-                buildMatrixByInstrumentedPass(device, renderer, camK, p, layer, S.emProbeSize);
-            int l = probe.finestLevelAccessed();
-            if (l >= 0) finestAccessedRes = std::max(finestAccessedRes, S.emProbeSize >> l);
-        }
-    const int emSize = std::max(8, std::min(S.emSize, finestAccessedRes > 0 ? finestAccessedRes : S.emSize));
+    const int emSize = emResolutionFor(renderer, camK, S, &finestAccessedRes);
     std::printf("pem: finest EM level accessed ≙ %d² per face (probe %d²); EM resolution %d²×6\n",
                 finestAccessedRes, S.emProbeSize, emSize);
 
@@ -147,12 +155,21 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     const demos::ViewRange range = demos::ViewRange::parse(options.views, S.views);
     const int v0 = range.begin, v1 = range.end;
     nlohmann::json manifest = manifestFor(ps, S, emSize);
-    if (!manifestMatches(assets, manifest)) {
-        if (fs::exists(assets / "manifest.json"))
-            std::printf("pem: stored assets were made with other settings; recomputing\n");
-        fs::remove_all(assets);
-        writeManifest(assets, manifest);
-    }
+    demos::ShardIdentity identity;
+    identity.paper = "pem";
+    identity.quality = demos::qualityName(options.quality);
+    identity.profile = std::string(profile.name);
+    identity.codeVersion = demos::codeVersion();
+    identity.settingsSha256 = demos::sha256OfBytes(manifest.dump());
+    identity.sceneSha256 = demos::sha256OfBytes(
+        options.scene.empty() ? "builtin:teapot-in-room:" + std::to_string(S.teapotLevel)
+        : fs::is_regular_file(options.scene) ? "file:" + demos::sha256OfFile(options.scene)
+                                             : "named:" + options.scene);
+    identity.views = S.views;
+    // Refuses (naming shard.json) views made with other inputs; resumes its own.
+    demos::ViewStore store(assets, identity);
+    if (!manifestMatches(assets, manifest)) writeManifest(assets, manifest);
+    store.addRange(range);
     std::vector<std::optional<ViewSample>> samples(size_t(S.views));
     {
         Progress progress("pem precompute", uint64_t(v1 - v0));
@@ -160,17 +177,23 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
             ray::Camera cam = path.at(uint32_t(v));
             // The baselines (single EM, PTM) are inferred only where they are evaluated.
             const bool baselines = v == kView || v == kView + 1;
-            samples[size_t(v)] = loadView(assets, ps, v, emSize, S.ptmSize);
+            if (store.finished(v)) {
+                store.verifyView(v);
+                samples[size_t(v)] = loadView(assets, ps, v, emSize, S.ptmSize);
+            }
             if (!samples[size_t(v)] || (baselines && !samples[size_t(v)]->hasBaselines())) {
                 samples[size_t(v)] = precomputeView(accel, renderer, v, cam, emSize, S, baselines);
-                saveView(assets, ps, *samples[size_t(v)], cam);
+                // Written aside and renamed when complete: a kill here loses only this view.
+                saveView(store.beginView(v), ps, *samples[size_t(v)], cam);
+                store.commitView(v);
             }
             progress.advance();
         }
     }
     if (!range.all) {
-        std::printf("pem: views %d..%d stored in %s; run without --views (with all view_* "
-                    "folders copied there) to merge and evaluate\n", v0, v1 - 1, assets.string().c_str());
+        std::printf("pem: views %d..%d stored in %s; merge the shards with `retroglass merge`, "
+                    "then run without --views to evaluate (docs/cluster.md)\n", v0, v1 - 1,
+                    assets.string().c_str());
         return {};
     }
     double rtS = 0, infS = 0;
