@@ -167,6 +167,10 @@ std::string viewFolderName(int view) {
     return buf;
 }
 
+fs::path assetsFolder(const fs::path& paperOut, const std::string& quality) {
+    return paperOut / (quality == "quick" ? std::string("assets") : "assets-" + quality);
+}
+
 // ---- ViewStore ----------------------------------------------------------------------------
 
 ViewStore::ViewStore(fs::path dir, ShardIdentity identity)
@@ -257,14 +261,19 @@ MergeResult mergeShards(const std::vector<fs::path>& shardArgs, const fs::path& 
         if (fs::exists(arg / kIdentityFile)) {
             found.push_back(arg);
         } else if (fs::is_directory(arg)) {
-            for (const auto& e : fs::directory_iterator(arg))
-                if (fs::exists(e.path() / "assets" / kIdentityFile))
-                    found.push_back(e.path() / "assets");
+            for (const auto& paper : fs::directory_iterator(arg))
+                if (paper.is_directory())
+                    for (const auto& e : fs::directory_iterator(paper.path()))
+                        if (e.path().filename().string().rfind("assets", 0) == 0 &&
+                            e.path().extension() != kPartial &&
+                            fs::exists(e.path() / kIdentityFile))
+                            found.push_back(e.path());
         }
         if (found.size() != 1)
             throw Error("merge: " + arg.string() +
-                        (found.empty() ? ": no shard.json there (nor in <paper>/assets/)"
-                                       : ": holds more than one paper's shard; name one"));
+                        (found.empty() ? ": no shard.json there (nor in <paper>/assets*/)"
+                                       : ": holds more than one shard (papers or qualities); "
+                                         "name its assets folder"));
         const fs::path idFile = found[0] / kIdentityFile;
         const nlohmann::json j = readJson(idFile);
         Shard s{found[0], ShardIdentity::fromJson(j, idFile), j.value("ranges", nlohmann::json::array()),
@@ -324,7 +333,7 @@ MergeResult mergeShards(const std::vector<fs::path>& shardArgs, const fs::path& 
         }
     for (const auto& [v, dir] : owner) verifyViewFolder(dir);
     // ---- write: into a temporary folder, renamed into place at the end -----------------------
-    const fs::path into = outDir / id.paper / "assets";
+    const fs::path into = assetsFolder(outDir / id.paper, id.quality);
     if (fs::exists(into))
         throw Error("merge: " + into.string() + " exists; nothing was changed (merge writes a "
                     "new folder and overwrites none)");

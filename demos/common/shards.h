@@ -3,7 +3,7 @@
 // and `retroglass merge`, which joins the folders of several `--views A:B` runs (one per
 // Slurm array task, docs/cluster.md) only when they provably belong together.
 //
-//   <out>/<paper>/assets/
+//   <out>/<paper>/assets/          (assets-paper/ at paper quality)
 //       shard.json           identity: paper, quality, profile, code version, SHA-256 of
 //                            the settings and of the scene, view count; the ranges run here
 //       view_007/            one finished view: the paper's files + files.json (bytes and
@@ -51,6 +51,10 @@ struct ShardIdentity {
 
 std::string viewFolderName(int view);  // view_007
 
+// A paper's assets folder in its output folder: `assets` for quick quality, `assets-paper`
+// for paper quality, so that both qualities' views live side by side in one --out.
+std::filesystem::path assetsFolder(const std::filesystem::path& paperOut, const std::string& quality);
+
 // One paper's folder of finished views.
 class ViewStore {
   public:
@@ -80,7 +84,7 @@ class ViewStore {
 };
 
 // `retroglass merge`: joins the stores of `shards` (each an assets folder, or a `--out`
-// folder holding one paper's) into <outDir>/<paper>/assets, which must not exist yet; then
+// folder holding one paper's) into <outDir>/<paper>/assets[-paper], which must not exist; then
 // `retroglass reproduce <paper> --out <outDir>` evaluates the merged views.
 // Everything is checked before anything is written: one identity, made by this code;
 // every range each shard ran finished; no view in two shards; every view of the whole

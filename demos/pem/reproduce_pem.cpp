@@ -117,7 +117,7 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     const auto tStart = Clock::now();
     const fs::path out = options.outDir;
     fs::create_directories(out);
-    const fs::path assets = out / "assets";
+    const fs::path assets = demos::assetsFolder(out, demos::qualityName(options.quality));
     const Profile& profile = profileByName("geforce256");
 
     // ---- scene ----------------------------------------------------------------------------
