@@ -45,12 +45,12 @@ trap cleanup EXIT
 # ---- munge: its own key and socket ----------------------------------------------------------
 mungekey --create --keyfile="$work/munge/munge.key" --force 2>/dev/null ||
     dd if=/dev/urandom of="$work/munge/munge.key" bs=1k count=1 status=none
-chmod 0700 "$work/munge"
+chmod 0711 "$work/munge"  # munged wants its socket's folder searchable by all
 chmod 0400 "$work/munge/munge.key"
 socket="$work/munge/munge.socket"
 munged --foreground --force --key-file="$work/munge/munge.key" --socket="$socket" \
     --pid-file="$work/run/munged.pid" --log-file="$work/log/munged.log" \
-    --seed-file="$work/munge/seed" &
+    --seed-file="$work/munge/seed" 2>>"$work/log/munged.out" &
 pids+=($!)
 for _ in $(seq 50); do [[ -S "$socket" ]] && break; sleep 0.2; done
 [[ -S "$socket" ]] || { echo "slurm: munged did not start" >&2; exit 1; }
@@ -137,6 +137,12 @@ diff <(cd "$a" && find . -type f | sort) <(cd "$b" && find . -type f | sort) >/d
 # shard.json: the same identity; only the ranges the runs recorded differ.
 diff <(jq -S 'del(.ranges)' "$a/shard.json") <(jq -S 'del(.ranges)' "$b/shard.json")
 echo "slurm: $compared asset files identical"
+# The figures too: renders of the same maps, so the same pixels.
+for f in "$work/single/pem/"*.png; do
+    cmp -s "$f" "$work/cluster/merged/pem/$(basename "$f")" ||
+        { echo "slurm: figure $(basename "$f") differs" >&2; exit 1; }
+done
+echo "slurm: $(ls "$work/single/pem/"*.png | wc -l) figures identical"
 # results.json without what varies run to run: times, rates, the timed frames' counters.
 strip='del(.. | objects | (.seconds_total, .raytrace_s_per_view, .inference_s_per_view,
                          .texgen_ms, .frame_ms, .fps, .test_renderings_s, .instrumented_s)?)'

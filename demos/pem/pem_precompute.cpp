@@ -104,26 +104,34 @@ ViewSample precomputeView(const ray::Accel& accel, PemRenderer& renderer, int vi
     auto at = [W](const ray::Image& im, int32_t px, int c) { return im.at(px % W, px / W, c); };
     auto runJobs = [&](std::vector<SolveJob>& jobs,
                        const std::vector<const RenderingMatrix*>& matrices) {
-        // One system per distinct matrix, shared by its channels; both built and solved in
-        // parallel, and each solve's products on every core too (inference.cpp) — each result
-        // depends only on its own inputs, so the bytes cannot change with the thread count.
+        // One system per distinct matrix, its channels solved together (one pass over the
+        // matrix per step serves them all, on every core: inference.cpp); the systems are
+        // built and solved side by side too. Each result depends only on its own inputs, so
+        // the bytes cannot change with the thread count.
         tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
         arena.execute([&] {
-            std::vector<std::unique_ptr<InferenceSystem>> systems(matrices.size());
-            tbb::parallel_for(size_t(0), matrices.size(), [&](size_t i) {
-                systems[i] = std::make_unique<InferenceSystem>(*matrices[i], settings.inference);
-            });
-            tbb::parallel_for(size_t(0), jobs.size(), [&](size_t j) {
-                SolveJob& job = jobs[j];
-                size_t si = size_t(std::find(matrices.begin(), matrices.end(), job.m) - matrices.begin());
-                Eigen::VectorXd b(int64_t(job.m->rowPixel.size()));
-                for (size_t r = 0; r < job.m->rowPixel.size(); ++r)
-                    b[int64_t(r)] = job.value(job.m->rowPixel[r]);
-                Eigen::VectorXd x = systems[si]->solve(b, &job.stats);
-                for (int64_t i = 0; i < x.size(); ++i) {
-                    uint8_t v = ray::quantize8(float(x[i]));
-                    Rgba8& t = job.out->texels[size_t(i)];
-                    (job.channel == 0 ? t.r : job.channel == 1 ? t.g : job.channel == 2 ? t.b : t.a) = v;
+            tbb::parallel_for(size_t(0), matrices.size(), [&](size_t si) {
+                const InferenceSystem system(*matrices[si], settings.inference);
+                std::vector<SolveJob*> mine;
+                std::vector<std::vector<Eigen::VectorXd>> bs;
+                for (SolveJob& job : jobs) {
+                    if (job.m != matrices[si]) continue;
+                    Eigen::VectorXd b(int64_t(job.m->rowPixel.size()));
+                    for (size_t r = 0; r < job.m->rowPixel.size(); ++r)
+                        b[int64_t(r)] = job.value(job.m->rowPixel[r]);
+                    mine.push_back(&job);
+                    bs.push_back({std::move(b)});
+                }
+                std::vector<InferenceStats> stats;
+                const std::vector<Eigen::VectorXd> xs = system.solveChannels(bs, &stats);
+                for (size_t k = 0; k < mine.size(); ++k) {
+                    SolveJob& job = *mine[k];
+                    job.stats = stats[k];
+                    for (int64_t i = 0; i < xs[k].size(); ++i) {
+                        uint8_t v = ray::quantize8(float(xs[k][i]));
+                        Rgba8& t = job.out->texels[size_t(i)];
+                        (job.channel == 0 ? t.r : job.channel == 1 ? t.g : job.channel == 2 ? t.b : t.a) = v;
+                    }
                 }
             });
         });

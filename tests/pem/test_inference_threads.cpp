@@ -7,6 +7,7 @@
 #include <cstring>
 #include <random>
 
+#include <Eigen/IterativeLinearSolvers>
 #include <tbb/task_arena.h>
 
 #include "inference.h"
@@ -66,6 +67,52 @@ TEST(InferenceThreads, ASolveIsTheSameInEveryBitOnOneTwoAndThreeThreads) {
         for (Eigen::Index i = 0; i < x.size(); ++i)
             differing += std::memcmp(&x[i], &one[i], sizeof(double)) != 0;
         EXPECT_EQ(differing, 0) << threads << " threads: texels differ from the 1-thread solve";
+    }
+}
+
+// The reference beside the fast path: Eigen's own ConjugateGradient (its Jacobi
+// preconditioner, one thread) on the same normal equations gives the same bits, and so does
+// each channel solved alone against the channels solved together.
+TEST(InferenceThreads, ChannelsSolvedTogetherAreEigensConjugateGradientBitForBit) {
+    const RenderingMatrix m = randomCubeMatrix(20000, 6);
+    std::mt19937 rng(10);
+    std::vector<std::vector<Eigen::VectorXd>> channels(3);
+    for (auto& c : channels) {
+        Eigen::VectorXd b(m.A.rows());
+        // 0.2..0.8: the solution stays in [0, 1], so no texel is pinned and the solve is
+        // conjugate gradient alone.
+        for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = 0.2 + 0.6 * (rng() % 256) / 255.0;
+        c.push_back(b);
+    }
+    InferenceOptions o;
+    o.maxIterations = 60;
+    o.boundRounds = 0;
+    const InferenceSystem system(m, o);
+    std::vector<InferenceStats> st;
+    const std::vector<Eigen::VectorXd> together = onThreads(3, [&] { return system.solveChannels(channels, &st); });
+    ASSERT_EQ(together.size(), 3u);
+    for (size_t c = 0; c < 3; ++c) {
+        SCOPED_TRACE("channel " + std::to_string(c));
+        const Eigen::VectorXd& b = channels[c][0];
+        // rhs = Aᵀb + μ·mean(b), the guess mean(b): inference.h's normal equations.
+        const double mean = b.sum() / double(b.size());
+        Eigen::VectorXd rhs = m.A.transpose() * b;
+        rhs.array() += o.prior * mean;
+        Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+        cg.setMaxIterations(o.maxIterations);
+        cg.setTolerance(o.tolerance);
+        cg.compute(system.normalMatrix());
+        const Eigen::VectorXd eigen =
+            cg.solveWithGuess(rhs, Eigen::VectorXd::Constant(rhs.size(), mean))
+                .cwiseMax(0.0)
+                .cwiseMin(1.0);
+        EXPECT_EQ(st[c].iterations, int(cg.iterations()));
+        EXPECT_GT(st[c].iterations, 10);
+        EXPECT_EQ(std::memcmp(together[c].data(), eigen.data(), size_t(eigen.size()) * sizeof(double)), 0)
+            << "differs from Eigen's ConjugateGradient";
+        const Eigen::VectorXd alone = onThreads(1, [&] { return system.solve(channels[c]); });
+        EXPECT_EQ(std::memcmp(together[c].data(), alone.data(), size_t(alone.size()) * sizeof(double)), 0)
+            << "differs from the channel solved alone";
     }
 }
 
