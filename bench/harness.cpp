@@ -228,20 +228,23 @@ int run(const Options& options, const char* argv0) {
     // Thread scaling: each workload on all threads over the same on one (issue 21: the
     // per-view precompute's 1-thread vs all-threads ratio).
     nlohmann::json scaling = nlohmann::json::array();
-    const std::string allSuffix = "/threads:" + std::to_string(allThreads());
+    const std::string allTag = "/threads:" + std::to_string(allThreads());
     for (const auto& [name, all] : throughput) {
-        if (allThreads() < 2 || name.size() <= allSuffix.size() ||
-            name.compare(name.size() - allSuffix.size(), allSuffix.size(), allSuffix) != 0)
+        // <workload>/<implementation>/threads:N[/real_time]: N all threads, its twin at 1.
+        const size_t at = name.find(allTag);
+        const size_t after = at + allTag.size();
+        if (allThreads() < 2 || at == std::string::npos ||
+            (after < name.size() && name[after] != '/'))
             continue;
-        const std::string base = name.substr(0, name.size() - allSuffix.size());
-        auto one = throughput.find(base + "/threads:1");
+        const std::string oneName = name.substr(0, at) + "/threads:1" + name.substr(after);
+        auto one = throughput.find(oneName);
         if (one == throughput.end() || one->second <= 0) continue;
         if (scaling.empty())
             std::printf("\n%-60s %14s %14s %8s\n", "workload (all threads vs 1)", "all items/s",
                         "1 items/s", "speed-up");
         std::printf("%-60s %14.4g %14.4g %8.2f\n", name.c_str(), all, one->second,
                     all / one->second);
-        scaling.push_back({{"benchmark", base},
+        scaling.push_back({{"benchmark", name},
                            {"threads", allThreads()},
                            {"all_items_per_second", all},
                            {"one_items_per_second", one->second},
