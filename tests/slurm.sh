@@ -144,7 +144,7 @@ for f in "$work/single/pem/"*.png; do
 done
 echo "slurm: $(ls "$work/single/pem/"*.png | wc -l) figures identical"
 # results.json without what varies run to run: times, rates, the timed frames' counters.
-strip='del(.. | objects | (.seconds_total, .raytrace_s_per_view, .inference_s_per_view,
+strip='del(.. | objects | (.seconds_total, .raytrace_s_per_view, .inference_s_per_view, .inference_cpu_s_per_view,
                          .texgen_ms, .frame_ms, .fps, .test_renderings_s, .instrumented_s)?)'
 diff <(jq -S "$strip" "$work/single/pem/results.json") \
      <(jq -S "$strip" "$work/cluster/merged/pem/results.json") ||

@@ -154,6 +154,7 @@ void saveView(const fs::path& vd, const PemScene& scene, const ViewSample& v,
     writeJson("view.json", j);
     writeJson("timing.json", {{"raytrace_s", v.raytraceSeconds},
                               {"inference_s", v.inferenceSeconds},
+                              {"inference_cpu_s", v.inferenceCpuSeconds},
                               {"baseline_s", v.baselineSeconds}});
 }
 
@@ -175,6 +176,7 @@ std::optional<ViewSample> loadView(const fs::path& dir, const PemScene& scene, i
             const nlohmann::json t = nlohmann::json::parse(tf);
             v.raytraceSeconds = t.value("raytrace_s", 0.0);
             v.inferenceSeconds = t.value("inference_s", 0.0);
+            v.inferenceCpuSeconds = t.value("inference_cpu_s", 0.0);
             v.baselineSeconds = t.value("baseline_s", 0.0);
         } catch (const nlohmann::json::exception& e) {
             throw Error((vd / "timing.json").string() + ": " + e.what());

@@ -256,6 +256,7 @@ demos::BenchCase precomputeCase() {
                                           f->emSize, f->settings, false);
             return std::map<std::string, double>{{"raytrace_s", s.raytraceSeconds},
                                                  {"inference_s", s.inferenceSeconds},
+                                                 {"inference_cpu_s", s.inferenceCpuSeconds},
                                                  {"em_size", double(f->emSize)}};
         });
     };
