@@ -176,15 +176,33 @@ fs::path assetsFolder(const fs::path& paperOut, const std::string& quality) {
 ViewStore::ViewStore(fs::path dir, ShardIdentity identity)
     : dir_(std::move(dir)), identity_(std::move(identity)) {
     const fs::path idFile = dir_ / kIdentityFile;
+    // Views of older code, in a folder that only ever held whole runs (no --views shard):
+    // what `reproduce` did before shards, and what every commit would otherwise refuse in
+    // the default out/; they could not be mixed with this code's views anyway.
+    auto startAfresh = [&](const std::string& why) {
+        std::printf("%s: %s: %s; computing its views again\n", identity_.paper.c_str(),
+                    dir_.string().c_str(), why.c_str());
+        for (int v : finishedViews(dir_)) fs::remove_all(viewDir(v));
+        writeIdentity(nlohmann::json::array());
+    };
     if (fs::exists(idFile)) {
         const nlohmann::json j = readJson(idFile);
         const ShardIdentity stored = ShardIdentity::fromJson(j, idFile);
-        if (const std::string d = identity_.differenceFrom(stored); !d.empty())
+        ShardIdentity sameCode = stored;
+        sameCode.codeVersion = identity_.codeVersion;
+        bool wholeRuns = true;
+        for (const auto& r : j.value("ranges", nlohmann::json::array()))
+            wholeRuns = wholeRuns && r == nlohmann::json::array({0, stored.views});
+        if (identity_ == sameCode && stored.codeVersion != identity_.codeVersion && wholeRuns) {
+            startAfresh("made by code version " + stored.codeVersion);
+        } else if (const std::string d = identity_.differenceFrom(stored); !d.empty()) {
+            // Other settings, scene, profile or quality (a mistaken --out), or a shard of
+            // other code (a --views run, made to be merged): kept, never cleared.
             throw Error(idFile.string() + ": these views were made with other inputs (" + d +
                         "); nothing was changed: remove the folder or choose another --out");
+        }
     } else if (fs::exists(dir_) && !finishedViews(dir_).empty()) {
-        throw Error(dir_.string() + ": holds views but no shard.json (made by an older "
-                    "version?); nothing was changed: remove the folder or choose another --out");
+        startAfresh("views without shard.json, made before views were checksummed");
     } else {
         fs::create_directories(dir_);
         writeIdentity(nlohmann::json::array());

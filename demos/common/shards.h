@@ -12,7 +12,9 @@
 //                            a run killed mid-write leaves it unfinished, never half-there
 //
 // A store holding another identity is refused, never cleared: finished views are the
-// expensive part of a paper run and are kept whatever the mistake.
+// expensive part of a paper run and are kept whatever the mistake. The one exception is a
+// store that only whole runs wrote, made by older code (every commit makes one of the
+// default out/): its views are computed again, as before shards.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -59,7 +61,8 @@ std::filesystem::path assetsFolder(const std::filesystem::path& paperOut, const 
 class ViewStore {
   public:
     // Opens `dir` (creating it when absent) for views of `identity`. rg::Error naming
-    // shard.json when the folder holds views of another identity; leftover .partial views
+    // shard.json when the folder holds views of another identity, except views of older
+    // code from whole runs (no --views), which are computed again; leftover .partial views
     // of a killed run are removed (they were never finished).
     ViewStore(std::filesystem::path dir, ShardIdentity identity);
 

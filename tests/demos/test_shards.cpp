@@ -178,6 +178,26 @@ TEST(Shards, AStoreOfOtherInputsIsRefusedAndKept) {
     EXPECT_TRUE(fs::exists(assets / "view_001" / "map.bin"));
 }
 
+TEST(Shards, OlderCodesViewsAreRecomputedAfterAWholeRunButAShardOfThemIsRefused) {
+    const fs::path d = test::scratchDir("shards");
+    ShardIdentity old = identity();
+    old.codeVersion = "0123abc";
+    makeShard(d / "whole", 0, 6, old);  // a whole run, as `reproduce` without --views
+    {
+        ViewStore store(d / "whole" / "fake" / "assets", identity());
+        EXPECT_FALSE(store.finished(0)) << "a view of older code was kept for this code";
+    }
+    makeShard(d / "part", 0, 3, old);  // a --views shard, made to be merged
+    const fs::path assets = d / "part" / "fake" / "assets";
+    try {
+        ViewStore store(assets, identity());
+        ADD_FAILURE() << "a shard of older code was opened";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("code version"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(fs::exists(assets / "view_002" / "map.bin"));
+}
+
 TEST(Shards, AViewKilledMidWriteIsNeitherFinishedNorKept) {
     const fs::path d = test::scratchDir("shards");
     makeShard(d / "a", 0, 2);
