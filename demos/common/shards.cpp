@@ -88,7 +88,7 @@ void verifyViewFolder(const fs::path& vd) {
         const uint64_t bytes = fs::file_size(file);
         if (bytes != f.at("bytes").get<uint64_t>())
             throw Error(file.string() + ": " + std::to_string(bytes) + " bytes, files.json says " +
-                        std::to_string(f.at("bytes").get<uint64_t>()) + " (truncated?)");
+                        std::to_string(f.at("bytes").get<uint64_t>()) + " (truncated or altered)");
         if (sha256OfFile(file) != f.at("sha256").get<std::string>())
             throw Error(file.string() + ": SHA-256 differs from files.json (corrupt)");
     }

@@ -265,17 +265,35 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
         if (maxIters <= 0) return endRound(s);
         s.need = ChannelSolve::Need::Direction;
     };
+    // Element by element, on every core: each element's arithmetic is Eigen's expression's
+    // (x += α p is x_i + α p_i), so the split cannot change a bit. The sums (dot products,
+    // norms) stay Eigen's, whose order is its own.
+    auto eachElement = [n](auto f) {
+        constexpr int64_t kElementsPerTask = 16384;
+        tbb::parallel_for(int64_t(0), (n + kElementsPerTask - 1) / kElementsPerTask, [&](int64_t b) {
+            const int64_t end = std::min(n, (b + 1) * kElementsPerTask);
+            for (int64_t i = b * kElementsPerTask; i < end; ++i) f(i);
+        });
+    };
     auto afterDirectionProduct = [&](ChannelSolve& s) {  // s.y = (H + P) p
         const double alpha = s.absNew / s.p.dot(s.y);
-        s.x += alpha * s.p;
-        s.residual -= alpha * s.y;
+        // x += α p; r −= α y; and z = M⁻¹ r ahead of the test below, in one pass (unused
+        // when the test ends the round).
+        s.z.resize(n);
+        double *x = s.x.data(), *r = s.residual.data(), *z = s.z.data();
+        const double *p = s.p.data(), *y = s.y.data(), *inv = s.invDiagonal.data();
+        eachElement([=](int64_t i) {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * y[i];
+            z[i] = inv[i] * r[i];
+        });
         s.residualNorm2 = s.residual.squaredNorm();
         if (s.residualNorm2 < s.threshold) return endRound(s);
-        s.z = s.invDiagonal.array() * s.residual.array();
         const double absOld = s.absNew;
         s.absNew = s.residual.dot(s.z);
         const double beta = s.absNew / absOld;
-        s.p = s.z + beta * s.p;
+        double* pw = s.p.data();
+        eachElement([=](int64_t i) { pw[i] = z[i] + beta * pw[i]; });
         if (++s.i >= maxIters) return endRound(s);
     };
     for (ChannelSolve& s : solves) startRound(s);
