@@ -120,7 +120,11 @@ wait "$single" || { echo "slurm: the single-process run failed" >&2; tail "$work
 echo "slurm: array and merge done in $(( $(date +%s) - start )) s"
 state=$(scontrol show job "$merge" 2>/dev/null | grep -o 'JobState=[A-Z]*' || true)
 echo "slurm: merge job $merge $state"
-tail -n 3 "$work/cluster/logs/merge.log"
+for log in "$work/cluster/logs/views_"*.log; do
+    echo "  $(basename "$log"): $(grep -h 'stored in' "$log" | sed 's/;.*//')"
+done
+grep -h '^merge:' "$work/cluster/logs/merge.log" | sed 's/^/  /'
+tail -n 2 "$work/cluster/logs/merge.log" | sed 's/^/  /'
 [[ -f "$work/cluster/merged/pem/results.json" ]] ||
     { echo "slurm: no merged results.json" >&2; cat "$work/cluster/logs/"*.log >&2; exit 1; }
 

@@ -41,7 +41,9 @@ array=$(sbatch --parsable --job-name="rg-$paper-views" --array="0-$((tasks - 1))
 set -euo pipefail
 i=\$SLURM_ARRAY_TASK_ID
 a=\$(( i * $views / $tasks )); b=\$(( (i + 1) * $views / $tasks ))
-exec "$bin" reproduce "$paper" --quality "$quality" --views "\$a:\$b" --out "$out/shards/task_\$i"
+# As many threads as CPUs granted (all the node's without --cpus-per-task).
+exec "$bin" \${SLURM_CPUS_PER_TASK:+--threads \$SLURM_CPUS_PER_TASK} reproduce "$paper" \
+    --quality "$quality" --views "\$a:\$b" --out "$out/shards/task_\$i"
 JOB
 )
 array=${array%%;*}
@@ -52,7 +54,8 @@ merge=$(sbatch --parsable --job-name="rg-$paper-merge" --dependency="afterok:$ar
 #!/usr/bin/env bash
 set -euo pipefail
 "$bin" merge --out "$out/merged" "$out"/shards/task_*
-exec "$bin" reproduce "$paper" --quality "$quality" --out "$out/merged"
+exec "$bin" \${SLURM_CPUS_PER_TASK:+--threads \$SLURM_CPUS_PER_TASK} reproduce "$paper" \
+    --quality "$quality" --out "$out/merged"
 JOB
 )
 merge=${merge%%;*}
