@@ -435,6 +435,31 @@ int run(const Options& options, const char* argv0) {
         }
     }
     printScalingTable(ratios, threadCounts);
+    // Thread scaling of each workload against itself: at every listed count N > 1 over the
+    // same at one thread (issue 21: the per-view precompute's 1-thread vs all-threads ratio).
+    nlohmann::json scaling = nlohmann::json::array();
+    for (const int n : threadCounts) {
+        if (n < 2) continue;
+        const std::string tag = "/threads:" + std::to_string(n);
+        for (const auto& [name, all] : throughput) {
+            // <workload>/<implementation>/threads:N[/real_time]: its twin at 1.
+            const size_t at = name.find(tag);
+            const size_t after = at + tag.size();
+            if (at == std::string::npos || (after < name.size() && name[after] != '/')) continue;
+            const std::string oneName = name.substr(0, at) + "/threads:1" + name.substr(after);
+            auto one = throughput.find(oneName);
+            if (one == throughput.end() || one->second <= 0) continue;
+            if (scaling.empty())
+                std::printf("\n%-60s %14s %14s %8s\n", "workload (N threads vs 1)", "N items/s",
+                            "1 items/s", "speed-up");
+            std::printf("%-60s %14.4g %14.4g %8.2f\n", name.c_str(), all, one->second, all / one->second);
+            scaling.push_back({{"benchmark", name},
+                               {"threads", n},
+                               {"all_items_per_second", all},
+                               {"one_items_per_second", one->second},
+                               {"speedup", all / one->second}});
+        }
+    }
     nlohmann::json oursOnly = nlohmann::json::array();
     for (const OursOnly& o : gOursOnly) {
         std::printf("%-60s ours only: %s\n", o.workload.c_str(), o.why.c_str());
@@ -449,6 +474,7 @@ int run(const Options& options, const char* argv0) {
         out["oversubscribed_threads"] = oversubscribed;
         out["samples_items_per_second"] = reporter.samples;  // each repetition's, in run order
         out["ratios"] = ratios;
+        out["thread_scaling"] = scaling;
         out["ours_only"] = oursOnly;
         std::ofstream f(options.jsonPath);
         if (!f) {

@@ -17,6 +17,7 @@
 #include "gallery.h"
 #include "report.h"
 #include "reproduction.h"
+#include "shards.h"
 #include "view_command.h"
 #ifdef RETROGLASS_HAVE_BENCH
 #include "bench_command.h"
@@ -158,6 +159,15 @@ int main(int argc, char** argv) {
     reproduce->add_option("--views", views, "viewpoint range A:B of a split precompute");
     reproduce->add_option("--mover", mover, "impostors with --scene: the object that moves (default: the last glass or mirror object)");
 
+    std::string mergeOut = "out";
+    std::vector<std::string> mergeShardDirs;
+    auto* merge = app.add_subcommand(
+        "merge", "join the precompute shards of `reproduce --views A:B` runs (docs/cluster.md) "
+                 "into <out>/<paper>/assets; then `reproduce <paper> --out <out>` evaluates");
+    merge->add_option("shards", mergeShardDirs, "the shards' --out folders (or assets folders)")
+        ->required();
+    merge->add_option("--out", mergeOut, "output folder (its <paper>/assets must not exist)");
+
     rg::ray::RaytraceArgs rt;
     auto* raytrace = app.add_subcommand(
         "raytrace", "render the ray-traced ground truth of a scene (built-in name or JSON file)");
@@ -220,6 +230,13 @@ int main(int argc, char** argv) {
         if (*profiles) return runProfiles();
         if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, mover, g);
         if (*test) return runTests(testArgs, g);
+        if (*merge) {
+            std::vector<fs::path> shards(mergeShardDirs.begin(), mergeShardDirs.end());
+            const rg::demos::MergeResult m = rg::demos::mergeShards(shards, mergeOut);
+            std::printf("merge: %d views of %s from %zu shards into %s\n", m.views,
+                        m.paper.c_str(), shards.size(), m.assets.string().c_str());
+            return 0;
+        }
         if (*compare) {
             compareOptions.threads = g.threads;
             compareOptions.quality = rg::demos::qualityByName(compareQuality);

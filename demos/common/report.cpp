@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <map>
 #include <mutex>
 
 #include "core/error.h"
@@ -179,6 +180,43 @@ nlohmann::json Report::write(const fs::path& outDir, nlohmann::json results) con
                               c.test, measuredText(c.measured)});
         md << t.markdown();
     }
+    // ---- the other quality beside this one, when it was run into the same folder --------
+    // Each run keeps its results as results-<quality>.json too, so the quick and the paper
+    // numbers stand side by side whichever ran last.
+    const std::string other = quality_ == Quality::Paper ? "quick" : "paper";
+    if (const fs::path otherFile = outDir / ("results-" + other + ".json"); fs::exists(otherFile)) {
+        nlohmann::json o;
+        try {
+            std::ifstream f(otherFile);
+            o = nlohmann::json::parse(f);
+        } catch (const nlohmann::json::exception& e) {
+            throw Error(otherFile.string() + ": " + e.what());
+        }
+        md << "## Quick and paper quality side by side\n\n"
+           << "This run is `" << qualityName(quality_) << "`; the `" << other << "` numbers are "
+           << "from `" << otherFile.filename().string() << "`, the last " << other
+           << " run into this folder.\n\n";
+        const bool paperHere = quality_ == Quality::Paper;
+        std::map<std::string, nlohmann::json> otherClaims;
+        for (const auto& c : o.value("claims", nlohmann::json::array()))
+            otherClaims[c.value("id", "")] = c;
+        auto cell = [](const nlohmann::json& c) {
+            if (c.is_null()) return std::string("—");
+            return std::string(c.value("holds", false) ? "✔ " : "✘ ") +
+                   measuredText(c.value("measured", nlohmann::json::object()));
+        };
+        Table t{{"claim", "quick", "paper"}, {}};
+        for (const nlohmann::json& c : results["claims"]) {
+            const std::string id = c["id"];
+            const nlohmann::json oc = otherClaims.count(id) ? otherClaims[id] : nlohmann::json();
+            t.rows.push_back({"`" + id + "`", paperHere ? cell(oc) : cell(c),
+                              paperHere ? cell(c) : cell(oc)});
+        }
+        t.rows.push_back({"claims hold",
+                          std::to_string(paperHere ? o.value("claims_held", 0) : claimsHeld()),
+                          std::to_string(paperHere ? claimsHeld() : o.value("claims_held", 0))});
+        md << t.markdown();
+    }
     md << md_.str();
     const std::string markdown = md.str();
     writeFile(outDir / "report.md", markdown);
@@ -189,6 +227,8 @@ nlohmann::json Report::write(const fs::path& outDir, nlohmann::json results) con
                        "<a href=\"results.json\">results.json</a></p>\n" +
                            markdownToHtml(markdown)));
     writeFile(outDir / "results.json", results.dump(2) + "\n");
+    writeFile(outDir / ("results-" + std::string(qualityName(quality_)) + ".json"),
+              results.dump(2) + "\n");
     return results;
 }
 

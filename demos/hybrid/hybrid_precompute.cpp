@@ -332,12 +332,16 @@ SampleSolution inferSample(HybridRenderer& renderer, int view,
                     if (it.col() < finest && it.value() > 0) reached[size_t(it.col())] = 1;
         map.unconstrained = std::count(reached.begin(), reached.end(), uint8_t(0));
         double residual = 0;
+        // The four channels together: one pass over the normal matrix per step serves them
+        // all (pem/inference.cpp), each the same bits as solved alone.
+        std::vector<std::vector<Eigen::VectorXd>> rhs(4);
+        for (int c = 0; c < 4; ++c)
+            for (const Block& b : bl) rhs[size_t(c)].push_back(b.b[size_t(c)]);
+        std::vector<pem::InferenceStats> stats;
+        const std::vector<Eigen::VectorXd> xs = system.solveChannels(rhs, &stats);
         for (int c = 0; c < 4; ++c) {
-            std::vector<Eigen::VectorXd> rhs;
-            for (const Block& b : bl) rhs.push_back(b.b[size_t(c)]);
-            pem::InferenceStats st;
-            const Eigen::VectorXd x = system.solve(rhs, &st);
-            residual += st.residual / 4.0;
+            const Eigen::VectorXd& x = xs[size_t(c)];
+            residual += stats[size_t(c)].residual / 4.0;
             for (int64_t t = 0; t < x.size(); ++t) {
                 const uint8_t v = ray::quantize8(float(x[t]));
                 Rgba8& tx = map.texels[size_t(t)];

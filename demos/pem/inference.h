@@ -77,6 +77,13 @@ class InferenceSystem {
     // The stacked form: one right-hand side per block, in block order.
     Eigen::VectorXd solve(const std::vector<Eigen::VectorXd>& b,
                           InferenceStats* stats = nullptr) const;
+    // Several channels at once (a map's R, G, B, A), each in the stacked form: one pass over
+    // the normal matrix serves all of them at every step, on every core. Each result is the
+    // same bits as solve() of that channel alone, for any thread count.
+    std::vector<Eigen::VectorXd> solveChannels(const std::vector<std::vector<Eigen::VectorXd>>& b,
+                                               std::vector<InferenceStats>* stats = nullptr) const;
+    // The normal equations' matrix H (symmetric; for tests against a reference solver).
+    const Eigen::SparseMatrix<double>& normalMatrix() const { return H_; }
     const RenderingMatrix& matrix() const { return *blocks_.at(0).m; }
     const TexelLayout& layout() const { return blocks_.at(0).m->layout; }
 

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "shards.h"
 
 namespace fs = std::filesystem;
 
@@ -15,12 +16,6 @@ int imageHeight(const TexelLayout& L) {
     int h = 0;
     for (int l = 0; l < L.levels(); ++l) h += L.faces * L.levelSize(l);
     return h;
-}
-
-std::string viewFolder(int view) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "view_%03d", view);
-    return buf;
 }
 
 nlohmann::json vec(const glm::vec3& v) { return {v.x, v.y, v.z}; }
@@ -126,9 +121,8 @@ bool manifestMatches(const fs::path& dir, const nlohmann::json& manifest) {
     }
 }
 
-void saveView(const fs::path& dir, const PemScene& scene, const ViewSample& v,
+void saveView(const fs::path& vd, const PemScene& scene, const ViewSample& v,
               const ray::Camera& camera) {
-    fs::path vd = dir / viewFolder(v.view);
     fs::create_directories(vd);
     nlohmann::json j;
     j["view"] = v.view;
@@ -136,9 +130,6 @@ void saveView(const fs::path& dir, const PemScene& scene, const ViewSample& v,
                    {"target", vec(camera.target)},
                    {"up", vec(camera.up)},
                    {"fov_y_degrees", camera.fovYDegrees}};
-    j["raytrace_s"] = v.raytraceSeconds;
-    j["inference_s"] = v.inferenceSeconds;
-    j["baseline_s"] = v.baselineSeconds;
     j["baselines"] = v.hasBaselines();
     for (size_t p = 0; p < scene.parts.size(); ++p) {
         const std::string& n = scene.parts[p].name;
@@ -152,13 +143,24 @@ void saveView(const fs::path& dir, const PemScene& scene, const ViewSample& v,
     }
     ray::writeImage(vd / "ground_truth.exr", v.groundTruth);
     ray::writeImage(vd / "coverage.exr", v.coverage);
-    std::ofstream f(vd / "view.json");
-    f << j.dump(2) << "\n";
+    // Timings apart from the rest: they differ run to run, everything else is the same
+    // bytes for the same inputs (a merged precompute is compared file by file).
+    auto writeJson = [&vd](const char* name, const nlohmann::json& json) {
+        std::ofstream f(vd / name);
+        f << json.dump(2) << "\n";
+        f.flush();
+        if (!f) throw Error((vd / name).string() + ": cannot write (disk full?)");
+    };
+    writeJson("view.json", j);
+    writeJson("timing.json", {{"raytrace_s", v.raytraceSeconds},
+                              {"inference_s", v.inferenceSeconds},
+                              {"inference_cpu_s", v.inferenceCpuSeconds},
+                              {"baseline_s", v.baselineSeconds}});
 }
 
 std::optional<ViewSample> loadView(const fs::path& dir, const PemScene& scene, int view,
                                    int emSize, int ptmSize) {
-    fs::path vd = dir / viewFolder(view);
+    fs::path vd = dir / demos::viewFolderName(view);
     if (!fs::exists(vd / "view.json")) return std::nullopt;
     std::ifstream f(vd / "view.json");
     nlohmann::json j;
@@ -169,9 +171,17 @@ std::optional<ViewSample> loadView(const fs::path& dir, const PemScene& scene, i
     }
     ViewSample v;
     v.view = view;
-    v.raytraceSeconds = j.value("raytrace_s", 0.0);
-    v.inferenceSeconds = j.value("inference_s", 0.0);
-    v.baselineSeconds = j.value("baseline_s", 0.0);
+    if (std::ifstream tf(vd / "timing.json"); tf) {
+        try {
+            const nlohmann::json t = nlohmann::json::parse(tf);
+            v.raytraceSeconds = t.value("raytrace_s", 0.0);
+            v.inferenceSeconds = t.value("inference_s", 0.0);
+            v.inferenceCpuSeconds = t.value("inference_cpu_s", 0.0);
+            v.baselineSeconds = t.value("baseline_s", 0.0);
+        } catch (const nlohmann::json::exception& e) {
+            throw Error((vd / "timing.json").string() + ": " + e.what());
+        }
+    }
     TexelLayout cube{emSize, 6}, atlas{ptmSize, 1};
     for (const PemPart& p : scene.parts) {
         PartMaps m;

@@ -1,7 +1,8 @@
 // PEM assets on disk: each inferred map as an EXR image (OpenImageIO) plus JSON.
 //
 //   <dir>/manifest.json        settings and EM geometry; what a loader checks
-//   <dir>/view_007/view.json   one viewpoint sample: its camera, files, timings
+//   <dir>/shard.json           identity of the views (demos/common/shards.h)
+//   <dir>/view_007/view.json   one viewpoint sample: its camera; timing.json its timings
 //   <dir>/view_007/body_local.exr, body_distant.exr, ... ground_truth.exr, coverage.exr
 //
 // A map's EXR is baseSize wide; level l, face f, row y is image row Σ_{k<l} faces·size_k
@@ -31,7 +32,8 @@ void writeManifest(const std::filesystem::path& dir, const nlohmann::json& manif
 // True when <dir>/manifest.json exists and equals `manifest`.
 bool manifestMatches(const std::filesystem::path& dir, const nlohmann::json& manifest);
 
-void saveView(const std::filesystem::path& dir, const PemScene& scene, const ViewSample& v,
+// Writes one view's files into `viewDir` (a ViewStore's beginView folder, demos/common/shards.h).
+void saveView(const std::filesystem::path& viewDir, const PemScene& scene, const ViewSample& v,
               const ray::Camera& camera);
 // nullopt when the view was not stored; rg::Error when it is stored but broken.
 std::optional<ViewSample> loadView(const std::filesystem::path& dir, const PemScene& scene,

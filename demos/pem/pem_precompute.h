@@ -51,6 +51,7 @@ struct ViewSample {
     ray::PemLayerImages layers;  // empty when loaded from assets
     double raytraceSeconds = 0;
     double inferenceSeconds = 0;   // the PEM's maps: A (instrumented) + solves
+    double inferenceCpuSeconds = 0;  // the same, CPU time of the process (user + system)
     double baselineSeconds = 0;    // the single-EM and PTM baselines' maps, when made
     bool hasBaselines() const { return !parts.empty() && !parts[0].ptm.texels.empty(); }
     std::vector<InferenceStats> stats;  // per part and layer, in solve order

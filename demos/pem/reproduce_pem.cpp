@@ -18,6 +18,7 @@
 #include "core/progress.h"
 #include "figures.h"
 #include "report.h"
+#include "shards.h"
 #include "pem_assets.h"
 #include "pem_precompute.h"
 #include "raycore/builtin_scenes.h"
@@ -98,11 +99,25 @@ ray::Image layerImage(const ray::PemLayerImages& layers, int which) {
 
 }  // namespace
 
+int emResolutionFor(PemRenderer& renderer, const ray::Camera& camera, const PemSettings& S,
+                    int* finestAccessed) {
+    int finest = 0;
+    for (size_t p = 0; p < renderer.scene().parts.size(); ++p)
+        for (EmLayer layer : {EmLayer::Distant, EmLayer::Local}) {
+            RenderingMatrix probe = buildMatrixByInstrumentedPass(renderer.device(), renderer,
+                                                                  camera, p, layer, S.emProbeSize);
+            int l = probe.finestLevelAccessed();
+            if (l >= 0) finest = std::max(finest, S.emProbeSize >> l);
+        }
+    if (finestAccessed) *finestAccessed = finest;
+    return std::max(8, std::min(S.emSize, finest > 0 ? finest : S.emSize));
+}
+
 nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     const auto tStart = Clock::now();
     const fs::path out = options.outDir;
     fs::create_directories(out);
-    const fs::path assets = out / "assets";
+    const fs::path assets = demos::assetsFolder(out, demos::qualityName(options.quality));
     const Profile& profile = profileByName("geforce256");
 
     // ---- scene ----------------------------------------------------------------------------
@@ -132,14 +147,7 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     const int kView = std::max(0, S.views / 2 - 1);  // the evaluation sample
     const ray::Camera camK = path.at(uint32_t(kView));
     int finestAccessedRes = 0;
-    for (size_t p = 0; p < ps.parts.size(); ++p)
-        for (EmLayer layer : {EmLayer::Distant, EmLayer::Local}) {
-            RenderingMatrix probe =
-                buildMatrixByInstrumentedPass(device, renderer, camK, p, layer, S.emProbeSize);
-            int l = probe.finestLevelAccessed();
-            if (l >= 0) finestAccessedRes = std::max(finestAccessedRes, S.emProbeSize >> l);
-        }
-    const int emSize = std::max(8, std::min(S.emSize, finestAccessedRes > 0 ? finestAccessedRes : S.emSize));
+    const int emSize = emResolutionFor(renderer, camK, S, &finestAccessedRes);
     std::printf("pem: finest EM level accessed ≙ %d² per face (probe %d²); EM resolution %d²×6\n",
                 finestAccessedRes, S.emProbeSize, emSize);
 
@@ -147,37 +155,66 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     const demos::ViewRange range = demos::ViewRange::parse(options.views, S.views);
     const int v0 = range.begin, v1 = range.end;
     nlohmann::json manifest = manifestFor(ps, S, emSize);
-    if (!manifestMatches(assets, manifest)) {
-        if (fs::exists(assets / "manifest.json"))
-            std::printf("pem: stored assets were made with other settings; recomputing\n");
-        fs::remove_all(assets);
-        writeManifest(assets, manifest);
-    }
+    demos::ShardIdentity identity;
+    identity.paper = "pem";
+    identity.quality = demos::qualityName(options.quality);
+    identity.profile = std::string(profile.name);
+    identity.codeVersion = demos::codeVersion();
+    identity.settingsSha256 = demos::sha256OfBytes(manifest.dump());
+    identity.sceneSha256 = demos::sha256OfBytes(
+        options.scene.empty() ? "builtin:teapot-in-room:" + std::to_string(S.teapotLevel)
+        : fs::is_regular_file(options.scene) ? "file:" + demos::sha256OfFile(options.scene)
+                                             : "named:" + options.scene);
+    identity.views = S.views;
+    // Refuses (naming shard.json) views made with other inputs; resumes its own.
+    demos::ViewStore store(assets, identity);
+    if (!manifestMatches(assets, manifest)) writeManifest(assets, manifest);
+    store.addRange(range);
     std::vector<std::optional<ViewSample>> samples(size_t(S.views));
     {
-        Progress progress("pem precompute", uint64_t(v1 - v0));
+        // Finished views first (a resumed run), so that the bar's ETA counts only the views
+        // still to compute.
+        auto needsWork = [&](int v) {
+            const bool baselines = v == kView || v == kView + 1;  // inferred only where evaluated
+            return !samples[size_t(v)] || (baselines && !samples[size_t(v)]->hasBaselines());
+        };
+        int todo = 0;
         for (int v = v0; v < v1; ++v) {
-            ray::Camera cam = path.at(uint32_t(v));
-            // The baselines (single EM, PTM) are inferred only where they are evaluated.
-            const bool baselines = v == kView || v == kView + 1;
-            samples[size_t(v)] = loadView(assets, ps, v, emSize, S.ptmSize);
-            if (!samples[size_t(v)] || (baselines && !samples[size_t(v)]->hasBaselines())) {
-                samples[size_t(v)] = precomputeView(accel, renderer, v, cam, emSize, S, baselines);
-                saveView(assets, ps, *samples[size_t(v)], cam);
+            if (store.finished(v)) {
+                store.verifyView(v);  // a truncated or corrupt file: an error naming it
+                samples[size_t(v)] = loadView(assets, ps, v, emSize, S.ptmSize);
             }
+            todo += needsWork(v);
+        }
+        if (todo < v1 - v0)
+            std::printf("pem: resuming: %d of views %d..%d already done in %s, %d to compute\n",
+                        v1 - v0 - todo, v0, v1 - 1, assets.string().c_str(), todo);
+        std::fflush(stdout);
+        Progress progress("pem precompute", uint64_t(todo));
+        for (int v = v0; v < v1; ++v) {
+            if (!needsWork(v)) continue;
+            const ray::Camera cam = path.at(uint32_t(v));
+            samples[size_t(v)] =
+                precomputeView(accel, renderer, v, cam, emSize, S, v == kView || v == kView + 1);
+            // Written aside and renamed when complete: a kill here loses only this view.
+            saveView(store.beginView(v), ps, *samples[size_t(v)], cam);
+            store.commitView(v);
             progress.advance();
         }
     }
     if (!range.all) {
-        std::printf("pem: views %d..%d stored in %s; run without --views (with all view_* "
-                    "folders copied there) to merge and evaluate\n", v0, v1 - 1, assets.string().c_str());
+        std::printf("pem: views %d..%d stored in %s; merge the shards with `retroglass merge`, "
+                    "then run without --views to evaluate (docs/cluster.md)\n", v0, v1 - 1,
+                    assets.string().c_str());
         return {};
     }
-    double rtS = 0, infS = 0;
+    double rtS = 0, infS = 0, infCpuS = 0;
     int timed = 0;
     for (const auto& s : samples)
-        if (s && s->raytraceSeconds > 0) rtS += s->raytraceSeconds, infS += s->inferenceSeconds, ++timed;
-    if (timed) rtS /= timed, infS /= timed;
+        if (s && s->raytraceSeconds > 0)
+            rtS += s->raytraceSeconds, infS += s->inferenceSeconds,
+                infCpuS += s->inferenceCpuSeconds, ++timed;
+    if (timed) rtS /= timed, infS /= timed, infCpuS /= timed;
 
     // ---- A two ways at the evaluation sample (001 §4 "EM Inference") --------------------
     nlohmann::json agreement;
@@ -332,13 +369,20 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
                                          {on.images["layered_pem"], psnrLabel(on, "layered_pem", "layered PEM")},
                                          {on.images["static_em"], psnrLabel(on, "static_em", "static EM")}},
                                         3));
-    if (!sk.layers.segments.empty())
+    {
+        // The evaluation sample's layers are not stored with its view: after a resumed or
+        // merged precompute they are traced again (the same bytes; one view's tracing), so the
+        // report is the same however the precompute ran.
+        std::optional<ray::PemLayerImages> traced;
+        if (sk.layers.segments.empty()) traced = traceLayers(accel, ps, camK, S);
+        const ray::PemLayerImages& kLayers = traced ? *traced : sk.layers;
         ray::writeImage(out / "figure4_layers.png",
-                        demos::labelledGrid({{layerImage(sk.layers, 0), "distant layer"},
-                                             {layerImage(sk.layers, 1), "local colour"},
-                                             {layerImage(sk.layers, 2), "local alpha"},
-                                             {layerImage(sk.layers, 3), "Fresnel layer"}},
+                        demos::labelledGrid({{layerImage(kLayers, 0), "distant layer"},
+                                             {layerImage(kLayers, 1), "local colour"},
+                                             {layerImage(kLayers, 2), "local alpha"},
+                                             {layerImage(kLayers, 3), "Fresnel layer"}},
                                             4));
+    }
     ray::writeImage(out / "figure5_inferred_ems.png",
                     demos::labelledGrid({{mapFigure(sk.parts[0].distant, -1), "inferred distant EM"},
                                          {mapFigure(sk.parts[0].local, -1), "inferred local EM"},
@@ -384,6 +428,7 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     r["viewer"] = viewer;
     r["precompute"] = {{"raytrace_s_per_view", rtS},
                        {"inference_s_per_view", infS},
+                       {"inference_cpu_s_per_view", infCpuS},
                        {"views_timed", timed}};
     r["rendering_matrix_agreement"] = agreement;
     r["settings"] = {{"quality", demos::qualityName(options.quality)},
@@ -488,9 +533,8 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     }
     rep.figure("figure1_on_manifold.png",
                "Figure 1 analogue, at a viewpoint sample: ray traced, layered PEM, static EM.");
-    if (!sk.layers.segments.empty())
-        rep.figure("figure4_layers.png",
-                   "Figure 4 analogue: distant layer, local colour, local alpha, Fresnel layer.");
+    rep.figure("figure4_layers.png",
+               "Figure 4 analogue: distant layer, local colour, local alpha, Fresnel layer.");
     rep.figure("figure5_inferred_ems.png",
                "Figure 5 analogue (" + ps.parts[0].name +
                    "): inferred distant EM, local EM and its alpha; rows are MIPMAP levels, "
@@ -527,7 +571,9 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
           "triangles).\n\n";
     rep.heading("Precompute per viewpoint");
     rep.table({{"", "paper", "ours"},
-               {{"ray tracing", "15 min", num(rtS) + " s"}, {"EM inference", "5.5 min", num(infS) + " s"}}});
+               {{"ray tracing", "15 min", num(rtS) + " s"},
+                {"EM inference", "5.5 min", num(infS) + " s"},
+                {"EM inference, CPU time (all threads)", "", num(infCpuS) + " s"}}});
     rep.heading("The rendering matrix, two ways");
     md << "At the evaluation sample, part `" << ps.parts[0].name << "`: the paper's test renderings "
        << "(8-bit read-backs) against the instrumented pass (exact tap weights).\n\n";

@@ -12,6 +12,11 @@ namespace rg::pem {
 // The settings of each quality (001 §6 for paper).
 PemSettings settingsFor(demos::Quality quality);
 
+// The EM resolution of a PEM (001 §4 "EM Resolution"): the finest MIPMAP level a probe map
+// of S.emProbeSize² is read at from `camera`, capped at S.emSize.
+int emResolutionFor(PemRenderer& renderer, const ray::Camera& camera, const PemSettings& S,
+                    int* finestAccessed = nullptr);
+
 // The reproduction at explicit settings (tests run it small). Writes the figures,
 // report.md, index.html and results.json into options.outDir and returns the results;
 // returns an empty object after a partial precompute (--views A:B).

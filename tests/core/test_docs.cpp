@@ -18,7 +18,7 @@ TEST(Docs, PathsNamedInDocsExist) {
     const fs::path root = RETROGLASS_SOURCE_DIR;
     // `folder/…/file.ext` or `folder/` where folder is one of the project's top folders.
     const std::regex pathRe(
-        R"(`((?:core|rasterizer|texunit|raycore|demos|tests|docs|bench|data|tools)/[A-Za-z0-9_./-]*)`)");
+        R"(`((?:core|rasterizer|texunit|raycore|demos|tests|docs|bench|data|tools|cmake)/[A-Za-z0-9_./-]*)`)");
     int checked = 0;
     for (const auto& entry : fs::directory_iterator(root / "docs")) {
         if (entry.path().extension() != ".md") continue;

@@ -99,6 +99,35 @@ TEST(Report, WritesMarkdownHtmlAndResultsWithClaims) {
     EXPECT_EQ(claimsLine("fake", file), "fake: 2 of 3 claims hold\n    does not hold: c_beats_d");
 }
 
+TEST(Report, ShowsQuickAndPaperSideBySideWhenBothRanIntoTheFolder) {
+    const fs::path out = testDir() / "fake";
+    fs::create_directories(out);
+    ReproduceOptions o;
+    o.outDir = out;
+    FakeReproduction().reproduce(o);
+    EXPECT_EQ(readText(out / "report.md").find("side by side"), std::string::npos)
+        << "a side-by-side table with only one quality run";
+    // The paper run: one claim measured differently, so the columns can be told apart.
+    FakeReproduction fake;
+    Report rep(fake, Quality::Paper);
+    rep.claim(claimAtLeast("a_beats_b", "§5", "A beats B", "a", 31.0, "b", 25.0, 0.5, "dB"));
+    rep.claim(claimAtLeast("c_beats_d", "§6", "C beats D", "c", 26.0, "d", 25.0, 0.5, "dB"));
+    rep.write(out, {});
+    const std::string md = readText(out / "report.md");
+    EXPECT_NE(md.find("## Quick and paper quality side by side"), std::string::npos) << md;
+    // quick: c − d = 0.2 does not hold; paper: 1.0 holds.
+    const size_t row = md.find("| `c_beats_d` | ");
+    ASSERT_NE(row, std::string::npos) << md;
+    const std::string line = md.substr(row, md.find('\n', row) - row);
+    const size_t quick = line.find("✘"), paper = line.find("✔");
+    EXPECT_TRUE(quick != std::string::npos && paper != std::string::npos && quick < paper) << line;
+    EXPECT_NE(line.find("difference = 0.200"), std::string::npos) << line;
+    EXPECT_NE(line.find("difference = 1.000"), std::string::npos) << line;
+    EXPECT_NE(md.find("| claims hold | 2 | 2 |"), std::string::npos) << md;
+    EXPECT_TRUE(fs::exists(out / "results-quick.json"));
+    EXPECT_EQ(nlohmann::json::parse(readText(out / "results-paper.json"))["quality"], "paper");
+}
+
 TEST(Report, RefusesAMissingFigureAndATwiceGivenClaim) {
     const fs::path out = testDir();
     FakeReproduction fake;

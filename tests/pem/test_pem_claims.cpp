@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <set>
 
+#include "core/error.h"
 #include "pem_assets.h"
 #include "reproduce_pem.h"
 #include "scratch_dir.h"
@@ -104,6 +106,53 @@ TEST(PemClaims, HoldAtASmallSetting) {
                           "figure4_layers.png", "figure5_inferred_ems.png",
                           "figure6_between.png", "figure7_above.png", "assets/manifest.json"})
         EXPECT_TRUE(fs::exists(o.outDir / f)) << f;
+}
+
+// A split or interrupted precompute (issue 21): a --views range stores its views and stops;
+// a run killed mid-view leaves a .partial folder; the full run then keeps every finished
+// view, redoes only the unfinished one and evaluates; a run with other settings into the
+// same folder is refused, naming shard.json, and leaves the views as they were.
+TEST(PemAssets, ResumesKeepingFinishedViewsAndRefusesOtherSettings) {
+    demos::ReproduceOptions o;
+    o.outDir = test::scratchDir("pem-resume");
+    o.views = "0:2";
+    EXPECT_TRUE(runPem(smallSettings(), o).empty());
+    const fs::path assets = o.outDir / "assets";
+    ASSERT_TRUE(fs::exists(assets / "view_000" / "files.json"));
+    ASSERT_TRUE(fs::exists(assets / "view_001" / "files.json"));
+    EXPECT_FALSE(fs::exists(assets / "view_002"));
+    auto readText = [](const fs::path& p) {
+        std::ifstream f(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    };
+    // The timings change whenever a view is recomputed: unchanged means kept.
+    const std::string timing0 = readText(assets / "view_000" / "timing.json");
+    const std::string timing1 = readText(assets / "view_001" / "timing.json");
+    fs::create_directories(assets / "view_002.partial");
+    std::ofstream(assets / "view_002.partial" / "body_local.exr") << "half a fi";
+
+    o.views.clear();
+    const nlohmann::json r = runPem(smallSettings(), o);
+    ASSERT_FALSE(r.empty());
+    EXPECT_EQ(readText(assets / "view_000" / "timing.json"), timing0) << "view 0 was recomputed";
+    EXPECT_EQ(readText(assets / "view_001" / "timing.json"), timing1) << "view 1 was recomputed";
+    EXPECT_TRUE(fs::exists(assets / "view_002" / "files.json"));
+    EXPECT_FALSE(fs::exists(assets / "view_002.partial"));
+    EXPECT_EQ(nlohmann::json::parse(readText(assets / "shard.json"))["ranges"],
+              nlohmann::json::parse("[[0, 2], [0, 3]]"));
+
+    PemSettings other = smallSettings();
+    other.spp = 2;
+    try {
+        runPem(other, o);
+        ADD_FAILURE() << "a precompute of other settings ran into the same folder";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find((assets / "shard.json").string()), std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("settings"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(readText(assets / "view_000" / "timing.json"), timing0);
+    EXPECT_TRUE(fs::exists(assets / "view_002" / "files.json"));
 }
 
 TEST(PemAssets, MapsRoundTripThroughExrBitForBit) {

@@ -1,0 +1,156 @@
+// The inference on every core gives the same bytes on any number of them (issue 21, item 1):
+// a view's inferred maps at 1, 2 and 3 threads, compared texel for texel. The maps are big
+// enough (64² faces, ~33k texels) that conjugate gradient's products split into several
+// row blocks, so a reduction whose order followed the threads would show here.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <tbb/task_arena.h>
+
+#include "inference.h"
+#include "pem_precompute.h"
+#include "raycore/builtin_scenes.h"
+
+namespace rg::pem {
+namespace {
+
+// A rendering that reaches the first two levels of a 64² cube map at random points.
+RenderingMatrix randomCubeMatrix(int rows, uint32_t seed) {
+    RenderingMatrix m;
+    m.layout = TexelLayout{64, 6};
+    std::mt19937 rng(seed);
+    std::vector<Eigen::Triplet<double>> t;
+    for (int r = 0; r < rows; ++r) {
+        const int level = int(rng() % 2), s = m.layout.levelSize(level), face = int(rng() % 6);
+        const int x = int(rng() % uint32_t(s - 1)), y = int(rng() % uint32_t(s - 1));
+        const double fx = (rng() % 1000) / 1000.0, fy = (rng() % 1000) / 1000.0;
+        t.emplace_back(r, m.layout.index(level, face, x, y), (1 - fx) * (1 - fy));
+        t.emplace_back(r, m.layout.index(level, face, x + 1, y), fx * (1 - fy));
+        t.emplace_back(r, m.layout.index(level, face, x, y + 1), (1 - fx) * fy);
+        t.emplace_back(r, m.layout.index(level, face, x + 1, y + 1), fx * fy);
+        m.rowPixel.push_back(r);
+    }
+    m.A.resize(rows, m.layout.count());
+    m.A.setFromTriplets(t.begin(), t.end());
+    return m;
+}
+
+template <class F>
+auto onThreads(int threads, F f) {
+    tbb::task_arena arena(threads);
+    return arena.execute(f);
+}
+
+TEST(InferenceThreads, ASolveIsTheSameInEveryBitOnOneTwoAndThreeThreads) {
+    const RenderingMatrix m = randomCubeMatrix(20000, 5);
+    std::mt19937 rng(9);
+    Eigen::VectorXd b(m.A.rows());
+    for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = (rng() % 256) / 255.0;
+    InferenceOptions o;
+    o.maxIterations = 80;
+    ASSERT_GT(m.layout.count(), 4 * 4096) << "too small to split the products into blocks";
+    const InferenceSystem system(m, o);
+    auto solve = [&] {
+        InferenceStats st;
+        Eigen::VectorXd x = system.solve(b, &st);
+        EXPECT_GT(st.iterations, 10);
+        return x;
+    };
+    const Eigen::VectorXd one = onThreads(1, solve);
+    for (int threads : {2, 3}) {
+        const Eigen::VectorXd x = onThreads(threads, solve);
+        ASSERT_EQ(x.size(), one.size());
+        int differing = 0;
+        for (Eigen::Index i = 0; i < x.size(); ++i)
+            differing += std::memcmp(&x[i], &one[i], sizeof(double)) != 0;
+        EXPECT_EQ(differing, 0) << threads << " threads: texels differ from the 1-thread solve";
+    }
+}
+
+// The reference beside the fast path: Eigen's own ConjugateGradient (its Jacobi
+// preconditioner, one thread) on the same normal equations gives the same bits, and so does
+// each channel solved alone against the channels solved together.
+TEST(InferenceThreads, ChannelsSolvedTogetherAreEigensConjugateGradientBitForBit) {
+    const RenderingMatrix m = randomCubeMatrix(20000, 6);
+    std::mt19937 rng(10);
+    std::vector<std::vector<Eigen::VectorXd>> channels(3);
+    for (auto& c : channels) {
+        Eigen::VectorXd b(m.A.rows());
+        // 0.2..0.8: the solution stays in [0, 1], so no texel is pinned and the solve is
+        // conjugate gradient alone.
+        for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = 0.2 + 0.6 * (rng() % 256) / 255.0;
+        c.push_back(b);
+    }
+    InferenceOptions o;
+    o.maxIterations = 60;
+    o.boundRounds = 0;
+    const InferenceSystem system(m, o);
+    std::vector<InferenceStats> st;
+    const std::vector<Eigen::VectorXd> together = onThreads(3, [&] { return system.solveChannels(channels, &st); });
+    ASSERT_EQ(together.size(), 3u);
+    for (size_t c = 0; c < 3; ++c) {
+        SCOPED_TRACE("channel " + std::to_string(c));
+        const Eigen::VectorXd& b = channels[c][0];
+        // rhs = Aᵀb + μ·mean(b), the guess mean(b): inference.h's normal equations.
+        const double mean = b.sum() / double(b.size());
+        Eigen::VectorXd rhs = m.A.transpose() * b;
+        rhs.array() += o.prior * mean;
+        Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+        cg.setMaxIterations(o.maxIterations);
+        cg.setTolerance(o.tolerance);
+        cg.compute(system.normalMatrix());
+        const Eigen::VectorXd eigen =
+            cg.solveWithGuess(rhs, Eigen::VectorXd::Constant(rhs.size(), mean))
+                .cwiseMax(0.0)
+                .cwiseMin(1.0);
+        EXPECT_EQ(st[c].iterations, int(cg.iterations()));
+        EXPECT_GT(st[c].iterations, 10);
+        EXPECT_EQ(std::memcmp(together[c].data(), eigen.data(), size_t(eigen.size()) * sizeof(double)), 0)
+            << "differs from Eigen's ConjugateGradient";
+        const Eigen::VectorXd alone = onThreads(1, [&] { return system.solve(channels[c]); });
+        EXPECT_EQ(std::memcmp(together[c].data(), alone.data(), size_t(alone.size()) * sizeof(double)), 0)
+            << "differs from the channel solved alone";
+    }
+}
+
+TEST(InferenceThreads, AViewsMapsAreTheSameBytesOnOneTwoAndThreeThreads) {
+    ray::BuiltinOptions bo;
+    bo.teapotLevel = 5;
+    const PemScene scene =
+        makePemScene(ray::makeBuiltinScene("teapot-in-room", bo), PemSceneOptions{});
+    const ray::Accel accel(scene.scene);
+    const ray::Camera camera = scene.scene.viewpointPaths.at(0).at(2);
+    auto maps = [&](int threads) {
+        PemSettings s;
+        s.width = 96;
+        s.height = 72;
+        s.spp = 1;
+        s.threads = threads;
+        s.inference.maxIterations = 60;
+        raster::Device device(profileByName("geforce256"), s.width, s.height,
+                              raster::DepthFormat::D24, {Path::Fast, threads});
+        PemRenderer renderer(device, scene);
+        ViewSample v = precomputeView(accel, renderer, 2, camera, 64, s, false);
+        std::vector<Rgba8> bytes;
+        for (const PartMaps& p : v.parts)
+            for (const MapTexels* m : {&p.distant, &p.local})
+                bytes.insert(bytes.end(), m->texels.begin(), m->texels.end());
+        return bytes;
+    };
+    const std::vector<Rgba8> one = maps(1);
+    int lit = 0;
+    for (const Rgba8& t : one) lit += t.r != 0;
+    ASSERT_GT(lit, 1000) << "the inferred maps are empty: nothing was compared";
+    for (int threads : {2, 3}) {
+        const std::vector<Rgba8> x = maps(threads);
+        ASSERT_EQ(x.size(), one.size());
+        EXPECT_TRUE(std::memcmp(x.data(), one.data(), x.size() * sizeof(Rgba8)) == 0)
+            << threads << " threads: the inferred maps differ from 1 thread's";
+    }
+}
+
+}  // namespace
+}  // namespace rg::pem
