@@ -34,20 +34,31 @@ TEST(TirClaims, TheReproductionRunsSmallAndItsWideClaimsHold) {
     fs::remove_all(o.outDir);
     const nlohmann::json r = runTir(s, o);
     for (const char* f : {"report.md", "index.html", "results.json", "figure1_dragon.png", "figure2_passes.png",
-                          "figure7_map_sizes.png", "figure8_bounces.png", "figure9_statue.png",
+                          "figure6_choice.png", "figure7_map_sizes.png", "figure8_bounces.png", "figure9_statue.png",
                           "figure10_kitchen.png", "figure11_front_and_back.png", "error_maps.png"})
         EXPECT_TRUE(fs::exists(o.outDir / f)) << f;
-    for (const char* k : {"scenes", "figure8_bounces", "figure7_map_sizes", "iterations", "table1", "claims"})
+    for (const char* k : {"scenes", "figure6_front_back_choice", "figure8_bounces", "figure7_map_sizes", "iterations", "table1", "claims"})
         EXPECT_TRUE(r.contains(k)) << k;
     std::map<std::string, bool> claims;
     for (const auto& c : r["claims"]) claims[c["id"].get<std::string>()] = c["holds"].get<bool>();
     for (const char* id : {"more_bounces_closer", "diminishing_returns", "beats_wyman05_where_tir_prism",
-                           "front_and_back_vital_somewhere", "iterations_8_5_suffice",
+                           "front_and_back_vital_somewhere", "choice_finds_front_hits", "iterations_8_5_suffice",
                            "smaller_maps_hurt_more_with_bounces", "frame_time_linear_in_bounces"})
         EXPECT_TRUE(claims.count(id)) << id;
     EXPECT_FALSE(claims.count("resolution_ratio_as_paper"));  // needs the paper's 512² and 1024²
     EXPECT_TRUE(claims["more_bounces_closer"]) << r["figure8_bounces"].dump();
     EXPECT_TRUE(claims["beats_wyman05_where_tir_prism"]) << r["scenes"]["prism"].dump();
+    // Figure 6: per scene and bounce, the counts are consistent (the compared hits are
+    // among the searching pixels; right and back-right among the compared).
+    for (const auto& [scene, j] : r["figure6_front_back_choice"].items()) {
+        if (scene == "all_scenes") continue;
+        ASSERT_EQ(j["by_bounce"].size(), 3u) << scene;
+        EXPECT_GT(j["by_bounce"][0]["compared"].get<int>(), 0) << scene;
+        for (const auto& b : j["by_bounce"]) {
+            EXPECT_LE(b["compared"].get<int>() + b["missed"].get<int>(), b["searching"].get<int>()) << scene;
+            EXPECT_LE(b["front_right"].get<int>(), b["compared"].get<int>()) << scene;
+        }
+    }
     // Table 1: every cell measured, with the search's fetches counted.
     for (const char* size : {"64", "128"})
         for (const char* b : {"1", "2", "3", "4"}) {
