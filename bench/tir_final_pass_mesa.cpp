@@ -21,10 +21,11 @@ namespace rg::bench::tir_final_pass {
 //
 // GLSL 1.30 (OpenGL 3.0, the GeForce 8800's generation) of EyeVP (demos/tir/tir_programs.h)
 // and TirFP. The fragment shader mirrors demos/tir/tir_search.h, which is the definition:
-// each function below is the one of the same name there, with its operations in the same
-// order (dot products as (x·x + y·y) + z·z, normalize as v·(1/√(v·v)), min and max as GLSL
-// defines them — min(x, y) = y < x ? y : x, the order of tir_search.h's min), the lane
-// selects as branches, SearchConstants as the uniform struct k. What GLSL leaves to the
+// each function below is the one of the same name there or in the lane arithmetic it takes
+// from rasterizer/quad_program_math.h, with its operations in the same order (dot products
+// as (x·x + y·y) + z·z, normalize as v·(1/√(v·v)), min and max as GLSL defines them —
+// min(x, y) = y < x ? y : x, the order of quad_program_math.h's min), the lane selects as
+// branches, SearchConstants as the uniform struct k. What GLSL leaves to the
 // implementation stays llvmpipe's: its compiler may rewrite a/b as a·(1/b) and 1/√x as
 // one operation, it converts to and filters binary16 its own way, and it rasterizes a
 // y-up window. Change tir_search.h and this together; tests/peer/test_tir_final_pass_mesa.cpp
