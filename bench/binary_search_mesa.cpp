@@ -4,15 +4,9 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 #include <GL/osmesa.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cstdlib>
-#include <exception>
 
 #include "binary_search_workload.h"
 #include "core/error.h"
-#include "core/fd_io.h"
 
 namespace rg::bench::binary_search {
 
@@ -148,83 +142,14 @@ void setupGl() {
 void drawFrameGl() { glDrawArrays(GL_TRIANGLES, 0, 6); }
 
 MesaImage renderMesa(int threads) {
-    if (threads < 1) throw Error("binary_search: renderMesa needs at least one thread");
-    int fds[2];
-    if (::pipe(fds) != 0) throw Error("binary_search: pipe failed");
-    const size_t bytes = size_t(kWidth) * kHeight * 4;
-    const pid_t pid = ::fork();
-    if (pid < 0) throw Error("binary_search: fork failed");
-    if (pid == 0) {
-        // The child answers with [u32 length][GL_RENDERER] then [u32 length][error] and,
-        // when the error is empty, the image. It never returns into the caller's code.
-        ::close(fds[0]);
-        ::setenv("GALLIUM_DRIVER", "llvmpipe", 1);
-        ::setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);
-        std::string renderer, error;
-        std::vector<uint8_t> buffer(bytes);
-        OSMesaContext ctx = nullptr;
-        try {
-            const int attribs[] = {OSMESA_FORMAT,
-                                   OSMESA_RGBA,
-                                   OSMESA_DEPTH_BITS,
-                                   0,
-                                   OSMESA_PROFILE,
-                                   OSMESA_COMPAT_PROFILE,
-                                   0};
-            ctx = OSMesaCreateContextAttribs(attribs, nullptr);
-            if (!ctx ||
-                !OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, kWidth, kHeight))
-                throw Error("binary_search: cannot create an OSMesa context");
-            // Buffer row 0 is GL's window row 0, where v = ½/512: the workload's rows.
-            OSMesaPixelStore(OSMESA_Y_UP, 1);
-            const GLubyte* r = glGetString(GL_RENDERER);
-            renderer = r ? reinterpret_cast<const char*>(r) : "unknown";
-            setupGl();
-            drawFrameGl();
-            // The framebuffer object's rows from window row 0 up: the workload's order.
-            glPixelStorei(GL_PACK_ALIGNMENT, 4);
-            glReadPixels(0, 0, kWidth, kHeight, GL_RGBA, GL_UNSIGNED_BYTE, buffer.data());
-            glFinish();
-            if (GLenum e = glGetError(); e != GL_NO_ERROR)
-                throw Error("binary_search: GL error " + std::to_string(e) +
-                            " in the draw");
-        } catch (const std::exception& e) {
-            error = e.what();
-        }
-        bool ok = true;
-        for (const std::string* s : {&renderer, &error}) {
-            const uint32_t len = uint32_t(s->size());
-            ok = ok && io::writeAll(fds[1], &len, sizeof len) &&
-                 io::writeAll(fds[1], s->data(), len);
-        }
-        if (ok && error.empty()) ok = io::writeAll(fds[1], buffer.data(), bytes);
-        if (ctx) OSMesaDestroyContext(ctx);
-        ::_exit(ok && error.empty() ? 0 : 1);
-    }
-    ::close(fds[1]);
-    MesaImage out;
-    std::string error;
-    bool ok = true;
-    for (std::string* s : {&out.renderer, &error}) {
-        uint32_t len = 0;
-        ok = ok && io::readAll(fds[0], &len, sizeof len) && len < (1u << 16);
-        if (ok) {
-            s->resize(len);
-            ok = io::readAll(fds[0], s->data(), len);
-        }
-    }
-    if (ok && error.empty()) {
-        out.rgba.resize(bytes);
-        ok = io::readAll(fds[0], out.rgba.data(), bytes);
-    }
-    ::close(fds[0]);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    if (!error.empty()) throw Error(error);
-    if (!ok)
-        throw Error("binary_search: the OSMesa child died (wait status " +
-                    std::to_string(status) + ")");
-    return out;
+    return renderMesaFrame("binary_search", kWidth, kHeight, threads, RowOrder::WindowRowZeroFirst, [] {
+        // Buffer row 0 is GL's window row 0, where v = ½/512: the workload's rows. (The
+        // frame is read from the framebuffer object, whose rows from window row 0 up are
+        // the workload's order too.)
+        OSMesaPixelStore(OSMESA_Y_UP, 1);
+        setupGl();
+        drawFrameGl();
+    });
 }
 
 }  // namespace rg::bench::binary_search

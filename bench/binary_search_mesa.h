@@ -6,9 +6,7 @@
 // readback (glReadPixels) for tests.
 #pragma once
 
-#include <cstdint>
-#include <string>
-#include <vector>
+#include "mesa_frame.h"
 
 namespace rg::bench::binary_search {
 
@@ -21,15 +19,13 @@ void setupGl();
 // One frame: the quad's glDrawArrays (no clear: the quad covers every pixel).
 void drawFrameGl();
 
-struct MesaImage {
-    std::string renderer;       // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-    std::vector<uint8_t> rgba;  // kWidth·kHeight·4 bytes, rows in the order of D's rows
-};
+// GL_RENDERER and the frame's kWidth·kHeight·4 bytes, in the order of D's rows (GL's
+// window rows from 0 up).
+using MesaImage = bench::MesaImage;
 
-// Renders one frame on llvmpipe with `threads` threads in a forked child (llvmpipe reads
-// LP_NUM_THREADS once per process, and the caller's process must stay free of GL contexts
-// so that bench/mesa_peer.h can fork later) and returns its image, rows ordered as
-// referenceImage(). Throws rg::Error when the child cannot create a context or render.
+// Renders one frame on llvmpipe with `threads` threads in a forked child (renderMesaFrame,
+// bench/mesa_frame.h) and returns its image, rows ordered as referenceImage(). Throws
+// rg::Error when the child cannot create a context or render.
 MesaImage renderMesa(int threads = 1);
 
 }  // namespace rg::bench::binary_search

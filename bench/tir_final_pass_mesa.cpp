@@ -3,17 +3,10 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
 #include <GL/glext.h>
-#include <GL/osmesa.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstddef>
-#include <cstdlib>
-#include <cstring>
-#include <exception>
 
 #include "core/error.h"
-#include "core/fd_io.h"
 
 namespace rg::bench::tir_final_pass {
 
@@ -21,10 +14,11 @@ namespace rg::bench::tir_final_pass {
 //
 // GLSL 1.30 (OpenGL 3.0, the GeForce 8800's generation) of EyeVP (demos/tir/tir_programs.h)
 // and TirFP. The fragment shader mirrors demos/tir/tir_search.h, which is the definition:
-// each function below is the one of the same name there, with its operations in the same
-// order (dot products as (x·x + y·y) + z·z, normalize as v·(1/√(v·v)), min and max as GLSL
-// defines them — min(x, y) = y < x ? y : x, the order of tir_search.h's min), the lane
-// selects as branches, SearchConstants as the uniform struct k. What GLSL leaves to the
+// each function below is the one of the same name there or in the lane arithmetic it takes
+// from rasterizer/quad_program_math.h, with its operations in the same order (dot products
+// as (x·x + y·y) + z·z, normalize as v·(1/√(v·v)), min and max as GLSL defines them —
+// min(x, y) = y < x ? y : x, the order of quad_program_math.h's min), the lane selects as
+// branches, SearchConstants as the uniform struct k. What GLSL leaves to the
 // implementation stays llvmpipe's: its compiler may rewrite a/b as a·(1/b) and 1/√x as
 // one operation, it converts to and filters binary16 its own way, and it rasterizes a
 // y-up window. Change tir_search.h and this together; tests/peer/test_tir_final_pass_mesa.cpp
@@ -356,75 +350,10 @@ void drawFrameGl(const Inputs& in) {
 }
 
 MesaImage renderMesa(const Inputs& in, int threads, const std::string& fragment) {
-    if (threads < 1) throw Error("tir_final_pass: renderMesa needs at least one thread");
-    int fds[2];
-    if (::pipe(fds) != 0) throw Error("tir_final_pass: pipe failed");
-    const size_t bytes = size_t(kWidth) * kHeight * 4;
-    const pid_t pid = ::fork();
-    if (pid < 0) throw Error("tir_final_pass: fork failed");
-    if (pid == 0) {
-        // The child answers with [u32 length][GL_RENDERER] then [u32 length][error] and,
-        // when the error is empty, the image. It never returns into the caller's code.
-        ::close(fds[0]);
-        ::setenv("GALLIUM_DRIVER", "llvmpipe", 1);
-        ::setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 1);
-        std::string renderer, error;
-        std::vector<uint8_t> buffer(bytes), rows(bytes);
-        OSMesaContext ctx = nullptr;
-        try {
-            const int attribs[] = {OSMESA_FORMAT,  OSMESA_RGBA,           OSMESA_DEPTH_BITS, 0,
-                                   OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0};
-            ctx = OSMesaCreateContextAttribs(attribs, nullptr);
-            if (!ctx || !OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, kWidth, kHeight))
-                throw Error("tir_final_pass: cannot create an OSMesa context");
-            const GLubyte* r = glGetString(GL_RENDERER);
-            renderer = r ? reinterpret_cast<const char*>(r) : "unknown";
-            setupGl(in, fragment.c_str());
-            drawFrameGl(in);
-            glPixelStorei(GL_PACK_ALIGNMENT, 4);
-            glReadPixels(0, 0, kWidth, kHeight, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
-            glFinish();
-            if (GLenum e = glGetError(); e != GL_NO_ERROR)
-                throw Error("tir_final_pass: GL error " + std::to_string(e) + " in the draw");
-            // GL's window row 0 is the bottom row; ours is the top one.
-            const size_t pitch = size_t(kWidth) * 4;
-            for (int y = 0; y < kHeight; ++y)
-                std::memcpy(buffer.data() + size_t(y) * pitch, rows.data() + size_t(kHeight - 1 - y) * pitch, pitch);
-        } catch (const std::exception& e) {
-            error = e.what();
-        }
-        bool ok = true;
-        for (const std::string* s : {&renderer, &error}) {
-            const uint32_t len = uint32_t(s->size());
-            ok = ok && io::writeAll(fds[1], &len, sizeof len) && io::writeAll(fds[1], s->data(), len);
-        }
-        if (ok && error.empty()) ok = io::writeAll(fds[1], buffer.data(), bytes);
-        if (ctx) OSMesaDestroyContext(ctx);
-        ::_exit(ok && error.empty() ? 0 : 1);
-    }
-    ::close(fds[1]);
-    MesaImage out;
-    std::string error;
-    bool ok = true;
-    for (std::string* s : {&out.renderer, &error}) {
-        uint32_t len = 0;
-        ok = ok && io::readAll(fds[0], &len, sizeof len) && len < (1u << 16);
-        if (ok) {
-            s->resize(len);
-            ok = io::readAll(fds[0], s->data(), len);
-        }
-    }
-    if (ok && error.empty()) {
-        out.rgba.resize(bytes);
-        ok = io::readAll(fds[0], out.rgba.data(), bytes);
-    }
-    ::close(fds[0]);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    if (!error.empty()) throw Error(error);
-    if (!ok)
-        throw Error("tir_final_pass: the OSMesa child died (wait status " + std::to_string(status) + ")");
-    return out;
+    return renderMesaFrame("tir_final_pass", kWidth, kHeight, threads, RowOrder::TopRowFirst, [&] {
+        setupGl(in, fragment.c_str());
+        drawFrameGl(in);
+    });
 }
 
 }  // namespace rg::bench::tir_final_pass

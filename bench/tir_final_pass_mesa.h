@@ -5,10 +5,9 @@
 // tests.
 #pragma once
 
-#include <cstdint>
 #include <string>
-#include <vector>
 
+#include "mesa_frame.h"
 #include "tir_final_pass_workload.h"
 
 namespace rg::bench::tir_final_pass {
@@ -28,14 +27,11 @@ void setupGl(const Inputs& in, const char* fragment = kFragmentShader);
 // One frame: glClear of colour (0, 0, 0, 0) and depth (1), then the refractor.
 void drawFrameGl(const Inputs& in);
 
-struct MesaImage {
-    std::string renderer;       // GL_RENDERER
-    std::vector<uint8_t> rgba;  // kWidth·kHeight·4 bytes, row 0 at the top (our order)
-};
+// GL_RENDERER and the frame's kWidth·kHeight·4 bytes, row 0 at the top (our order).
+using MesaImage = bench::MesaImage;
 
-// Renders one frame on llvmpipe with `threads` threads in a forked child (llvmpipe reads
-// LP_NUM_THREADS once per process, and the caller must stay free of GL contexts so that
-// bench/mesa_peer.h can fork later) and returns it with rows in our order. `fragment`
+// Renders one frame on llvmpipe with `threads` threads in a forked child (renderMesaFrame,
+// bench/mesa_frame.h) and returns it with rows in our order. `fragment`
 // replaces the fragment shader (tests plant bugs in it). Throws rg::Error when the child
 // cannot create a context or render.
 MesaImage renderMesa(const Inputs& in, int threads = 1, const std::string& fragment = kFragmentShader);

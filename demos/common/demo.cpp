@@ -1,9 +1,11 @@
-// The demo interface's parameter helpers (demo.h).
+// The demo interface's helpers (demo.h): parameters, the orbit rig, the inspector's images.
 #include "demo.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include <glm/geometric.hpp>
 
 #include "core/error.h"
 
@@ -19,6 +21,16 @@ double paramValue(const std::vector<Param>& params, const std::string& name) {
     for (const Param& p : params)
         if (p.name == name) return p.value;
     throw Error("unknown parameter '" + name + "'");
+}
+
+OrbitRig orbitAround(const ray::Camera& camera, float minFactor, float maxFactor) {
+    OrbitRig r;
+    r.start = camera;
+    r.start.name = "start";
+    const float d = glm::length(r.start.eye - r.start.target);
+    r.minDistance = minFactor * d;
+    r.maxDistance = maxFactor * d;
+    return r;
 }
 
 std::vector<Rgba8> displayTarget(const TargetImage& t, int width, int height, std::string* range) {

@@ -54,6 +54,9 @@ struct OrbitRig {
     ray::Camera start;                 // the reset camera
     float minDistance = 0.1f, maxDistance = 100.0f;
 };
+// The rig of a demo that starts at `camera` (named "start"): the viewer dollies between
+// minFactor and maxFactor times its distance to its target.
+OrbitRig orbitAround(const ray::Camera& camera, float minFactor, float maxFactor);
 
 // One render target of a programmable pass, as the pass inspector shows it: its texels as
 // floats (8-bit formats as v/255), and how to show them.

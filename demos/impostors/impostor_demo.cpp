@@ -2,7 +2,6 @@
 
 #include <cstdio>
 
-#include "core/error.h"
 #include "rasterizer/device.h"
 
 namespace rg::impostors {
@@ -48,7 +47,8 @@ viewer::TargetImage crossImage(const ray::Image& im, const std::string& name, vi
 }  // namespace
 
 ImpostorDemo::ImpostorDemo(const viewer::DemoOptions& options)
-    : scene_(options.scene.empty() ? makeChessScene() : impostorSceneFromFile(options.scene)), params_(impostorParams()) {
+    : ProgrammableDemo(impostorParams()),
+      scene_(options.scene.empty() ? makeChessScene() : impostorSceneFromFile(options.scene)) {
     for (const std::string& w : scene_.warnings) std::printf("view impostors: warning: %s\n", w.c_str());
     renderer_ = std::make_unique<ImpostorRenderer>(scene_, options.threads);
 }
@@ -59,15 +59,7 @@ std::string ImpostorDemo::title() const {
     return "Dancsik & Minarik, Real-time multi-bounce many-object ray tracing with distance-normal impostors";
 }
 
-viewer::OrbitRig ImpostorDemo::rig() const {
-    viewer::OrbitRig r;
-    r.start = scene_.camera;
-    r.start.name = "start";
-    const float d = glm::length(r.start.eye - r.start.target);
-    r.minDistance = 0.1f * d;
-    r.maxDistance = 4.0f * d;
-    return r;
-}
+viewer::OrbitRig ImpostorDemo::rig() const { return viewer::orbitAround(scene_.camera, 0.1f, 4.0f); }
 
 std::vector<viewer::ViewpointSample> ImpostorDemo::viewpointSamples() const {
     return {{"the whole scene (Figure 10)", scene_.camera}, {"through the sphere (Figure 9)", scene_.closeUp}};
@@ -97,18 +89,10 @@ ImpostorSettings ImpostorDemo::settings() const {
 }
 
 viewer::FrameNotes ImpostorDemo::render(raster::Device& device, const ray::Camera& camera) {
-    if (std::string(device.profile().name) != "geforce8800")
-        throw Error("impostors runs on geforce8800 (programmable shaders, float cube render targets); profile '" +
-                    std::string(device.profile().name) + "' has neither");
+    requireProgrammable(device, "programmable shaders, float cube render targets");
     const ImpostorSettings s = settings();
     const ImpostorFrame f = renderer_->render(camera, s);
-    const tex::Texture& frame = renderer_->frameTexture();
-    const Rgba8* px = const_cast<tex::Texture&>(frame).renderData8(0, 0);
-    device.beginFrame();
-    device.setState(raster::PipelineState{});
-    device.beginPass("hand-over: the programmable frame by drawPixels");
-    device.drawPixels(0, 0, s.width, s.height, std::span<const Rgba8>(px, size_t(s.width) * size_t(s.height)));
-    device.endFrame();
+    handOver(device, renderer_->frameTexture(), s.width, s.height);
     passes_.clear();
     if (capture_) {
         using K = viewer::TargetImage::Kind;
@@ -137,11 +121,8 @@ viewer::FrameNotes ImpostorDemo::render(raster::Device& device, const ray::Camer
         passes_.push_back({"frame", state, {crossImage(renderer_->frame(), "frame", K::Color8)}});
     }
     viewer::FrameNotes notes;
+    for (const PassTiming& p : f.passes) viewer::addPassNote(notes, p.name, p.ms, p.counters.fragmentInvocations);
     char b[128];
-    for (const PassTiming& p : f.passes) {
-        std::snprintf(b, sizeof b, "%.2f ms, %llu fragments", p.ms, (unsigned long long)p.counters.fragmentInvocations);
-        notes.push_back({p.name, b});
-    }
     std::snprintf(b, sizeof b, "%lld, %.1f fetches each", (long long)f.glassFragments, f.fetchesPerGlassFragment);
     notes.push_back({"glass fragments", b});
     std::snprintf(b, sizeof b, "%d (%lld texels)", f.impostorsRebuilt, (long long)f.impostorTexels);

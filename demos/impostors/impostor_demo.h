@@ -8,13 +8,13 @@
 
 #include <memory>
 
-#include "demo.h"
+#include "programmable_demo.h"
 #include "impostor_renderer.h"
 #include "impostor_scene.h"
 
 namespace rg::impostors {
 
-class ImpostorDemo final : public viewer::Demo {
+class ImpostorDemo final : public viewer::ProgrammableDemo {
   public:
     // options.scene: empty for §8's chess scene, else a scene file or raycore built-in name
     // with glass or mirror objects (the last of them moves).
@@ -23,24 +23,17 @@ class ImpostorDemo final : public viewer::Demo {
 
     std::string name() const override { return "impostors"; }
     std::string title() const override;
-    std::string defaultProfile() const override { return "geforce8800"; }
     std::pair<int, int> frameSize() const override { return {600, 600}; }
     viewer::OrbitRig rig() const override;
     std::vector<viewer::ViewpointSample> viewpointSamples() const override;
-    std::vector<viewer::Param>& params() override { return params_; }
     std::vector<std::string> passDescriptions() const override;
     viewer::FrameNotes render(raster::Device& device, const ray::Camera& camera) override;
-    void setCapturePasses(bool capture) override { capture_ = capture; }
-    std::vector<viewer::ProgrammablePass> programmablePasses() const override { return passes_; }
 
     ImpostorSettings settings() const;  // the frame's settings from the params
 
   private:
     ImpostorScene scene_;
     std::unique_ptr<ImpostorRenderer> renderer_;
-    std::vector<viewer::Param> params_;
-    bool capture_ = false;
-    std::vector<viewer::ProgrammablePass> passes_;
 };
 
 }  // namespace rg::impostors

@@ -14,50 +14,19 @@
 //   x's own surface point until an undershoot is) ─▶ the last point and its texel
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 
-#include "rasterizer/quad_program.h"
+#include "rasterizer/quad_program_math.h"
 
 namespace rg::impostors {
 
 using raster::Vec3L;
 using raster::Vec4L;
+// The lane-generic arithmetic the refraction programs share (rasterizer/quad_program_math.h):
+// the scalar lane type's overloads, the vector helpers, Snell's law with total internal
+// reflection.
+using namespace raster::lane_math;
 
-// ---- lane-generic helpers: scalar overloads beside the lane types' own --------------------
-inline float select(bool m, float a, float b) { return m ? a : b; }
-inline float min(float a, float b) { return (b < a) ? b : a; }  // std::min's order
-inline float max(float a, float b) { return (a < b) ? b : a; }
-inline float sqrt(float a) { return std::sqrt(a); }
-inline float abs(float a) { return std::fabs(a); }
-inline bool andNot(bool a, bool b) { return a && !b; }
-inline bool anyLane(bool m) { return m; }
-template <class M>
-bool anyLane(const M& m) {
-    return m.any();
-}
-
-template <class M, class F>
-Vec3L<F> select3(const M& m, const Vec3L<F>& a, const Vec3L<F>& b) {
-    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
-}
-template <class M, class F>
-Vec4L<F> select4(const M& m, const Vec4L<F>& a, const Vec4L<F>& b) {
-    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z), select(m, a.w, b.w)};
-}
-template <class F>
-F dot3(const Vec3L<F>& a, const Vec3L<F>& b) {
-    return (a.x * b.x + a.y * b.y) + a.z * b.z;  // glm::dot's order
-}
-template <class F>
-F length3(const Vec3L<F>& v) {
-    return sqrt(dot3(v, v));
-}
-template <class F>
-Vec3L<F> normalize3(const Vec3L<F>& v) {
-    const F inv = F(1.0f) / sqrt(dot3(v, v));
-    return v * inv;
-}
 // A 3×3 matrix of constants (rows) times a vector: (m₀·x + m₁·y) + m₂·z per row.
 template <class F>
 Vec3L<F> mul3(const float (&m)[9], const Vec3L<F>& v) {
@@ -75,29 +44,10 @@ Vec3L<F> splat3(const float (&v)[3]) {
     return {F(v[0]), F(v[1]), F(v[2])};
 }
 
-// The normal turned against the direction d.
-template <class F>
-Vec3L<F> facing(const Vec3L<F>& n, const Vec3L<F>& d) {
-    const auto away = dot3(n, d) > F(0.0f);
-    return select3(away, n * F(-1.0f), n);
-}
-
 // The mirror direction d + n·2cos (n against d, cos = −d·n).
 template <class F>
 Vec3L<F> reflect3(const Vec3L<F>& d, const Vec3L<F>& n) {
     return d + n * (F(2.0f) * -dot3(d, n));
-}
-
-// Snell's law with n against d and eta = η_i/η_t, as raycore's refractDir writes it: k =
-// 1 − η²(1 − cos²); total internal reflection where k < 0, and there the mirror direction.
-template <class F, class M>
-Vec3L<F> refractOrReflect(const Vec3L<F>& d, const Vec3L<F>& n, float eta, M& tir) {
-    const F cosI = -dot3(d, n);
-    const F k = F(1.0f) - F(eta * eta) * (F(1.0f) - cosI * cosI);
-    tir = k < F(0.0f);
-    const Vec3L<F> t = normalize3(d * F(eta) + n * (F(eta) * cosI - sqrt(max(k, F(0.0f)))));
-    const Vec3L<F> r = d + n * (F(2.0f) * cosI);
-    return select3(tir, r, t);
 }
 
 // 002 §3's "approximation of the Fresnel function": Schlick's F0 + (1 − F0)(1 − cos)⁵,

@@ -2,7 +2,6 @@
 
 #include <cstdio>
 
-#include "core/error.h"
 #include "rasterizer/device.h"
 
 namespace rg::tir {
@@ -59,7 +58,8 @@ viewer::TargetImage targetImage(const tex::Texture& t, const std::string& name, 
 
 }  // namespace
 
-TirDemo::TirDemo(const viewer::DemoOptions& options) : scene_(sceneFor(options.scene)), params_(tirParams()) {
+TirDemo::TirDemo(const viewer::DemoOptions& options)
+    : ProgrammableDemo(tirParams()), scene_(sceneFor(options.scene)) {
     for (const std::string& w : scene_.warnings) std::printf("view tir: warning: %s\n", w.c_str());
     renderer_ = std::make_unique<TirRenderer>(scene_, options.threads);
 }
@@ -70,15 +70,7 @@ std::string TirDemo::title() const {
     return "Davis & Wyman, Interactive Refractions with Total Internal Reflection, GI 2007";
 }
 
-viewer::OrbitRig TirDemo::rig() const {
-    viewer::OrbitRig r;
-    r.start = scene_.camera;
-    r.start.name = "start";
-    const float d = glm::length(r.start.eye - r.start.target);
-    r.minDistance = 0.2f * d;
-    r.maxDistance = 5.0f * d;
-    return r;
-}
+viewer::OrbitRig TirDemo::rig() const { return viewer::orbitAround(scene_.camera, 0.2f, 5.0f); }
 
 std::vector<viewer::ViewpointSample> TirDemo::viewpointSamples() const { return {{"scene camera", scene_.camera}}; }
 
@@ -106,19 +98,12 @@ TirSettings TirDemo::settings() const {
 }
 
 viewer::FrameNotes TirDemo::render(raster::Device& device, const ray::Camera& camera) {
-    if (std::string(device.profile().name) != "geforce8800")
-        throw Error("tir runs on geforce8800 (programmable shaders, float render targets); profile '" +
-                    std::string(device.profile().name) + "' has neither");
+    requireProgrammable(device, "programmable shaders, float render targets");
     const TirSettings s = settings();
     const TirFrame f = renderer_->render(camera, s);
     // The frame into the viewer's framebuffer, as it is.
     const tex::Texture& frame = renderer_->frameTexture();
-    const Rgba8* px = const_cast<tex::Texture&>(frame).renderData8(0, 0);
-    device.beginFrame();
-    device.setState(raster::PipelineState{});
-    device.beginPass("hand-over: the programmable frame by drawPixels");
-    device.drawPixels(0, 0, s.width, s.height, std::span<const Rgba8>(px, size_t(s.width) * size_t(s.height)));
-    device.endFrame();
+    handOver(device, frame, s.width, s.height);
     passes_.clear();
     if (capture_) {
         using K = viewer::TargetImage::Kind;
@@ -138,11 +123,8 @@ viewer::FrameNotes TirDemo::render(raster::Device& device, const ray::Camera& ca
         passes_.push_back({f.passes[3].name, state, {targetImage(frame, "frame", K::Color8)}});
     }
     viewer::FrameNotes notes;
+    for (const PassTiming& p : f.passes) viewer::addPassNote(notes, p.name, p.ms, p.counters.fragmentInvocations);
     char b[128];
-    for (const PassTiming& p : f.passes) {
-        std::snprintf(b, sizeof b, "%.2f ms, %llu fragments", p.ms, (unsigned long long)p.counters.fragmentInvocations);
-        notes.push_back({p.name, b});
-    }
     std::snprintf(b, sizeof b, "%lld, %.1f fetches each", (long long)f.refractiveFragments, f.fetchesPerRefractiveFragment);
     notes.push_back({"refractive fragments", b});
     return notes;

@@ -6,13 +6,13 @@
 
 #include <memory>
 
-#include "demo.h"
+#include "programmable_demo.h"
 #include "tir_renderer.h"
 #include "tir_scene.h"
 
 namespace rg::tir {
 
-class TirDemo final : public viewer::Demo {
+class TirDemo final : public viewer::ProgrammableDemo {
   public:
     // options.scene: a tir scene name (kitchen, statue, dragon, prism), a raycore built-in
     // scene or a scene file with a glass object; empty: the kitchen.
@@ -21,24 +21,17 @@ class TirDemo final : public viewer::Demo {
 
     std::string name() const override { return "tir"; }
     std::string title() const override;
-    std::string defaultProfile() const override { return "geforce8800"; }
     std::pair<int, int> frameSize() const override { return {512, 512}; }
     viewer::OrbitRig rig() const override;
     std::vector<viewer::ViewpointSample> viewpointSamples() const override;
-    std::vector<viewer::Param>& params() override { return params_; }
     std::vector<std::string> passDescriptions() const override;
     viewer::FrameNotes render(raster::Device& device, const ray::Camera& camera) override;
-    void setCapturePasses(bool capture) override { capture_ = capture; }
-    std::vector<viewer::ProgrammablePass> programmablePasses() const override { return passes_; }
 
     TirSettings settings() const;  // the frame's settings from the params
 
   private:
     TirScene scene_;
     std::unique_ptr<TirRenderer> renderer_;
-    std::vector<viewer::Param> params_;
-    bool capture_ = false;
-    std::vector<viewer::ProgrammablePass> passes_;
 };
 
 }  // namespace rg::tir

@@ -16,15 +16,18 @@
 // far plane, the clear value).
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 
-#include "rasterizer/quad_program.h"
+#include "rasterizer/quad_program_math.h"
 
 namespace rg::tir {
 
 using raster::Vec3L;
 using raster::Vec4L;
+// The lane-generic arithmetic the refraction programs share (rasterizer/quad_program_math.h):
+// the scalar lane type's overloads, the vector helpers, Snell's law with total internal
+// reflection.
+using namespace raster::lane_math;
 
 // The units the final pass reads.
 constexpr int kUnitBack = 0, kUnitFront = 1, kUnitNearby = 2, kUnitEnv = 3;
@@ -48,33 +51,6 @@ struct SearchConstants {
     int32_t searchNearby = 1;         // exit rays search the nearby map before the environment
     float eyeToWorld[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // rows: the view's rotation inverted
 };
-
-// ---- lane-generic helpers: scalar overloads beside the lane types' own --------------------
-inline float select(bool m, float a, float b) { return m ? a : b; }
-inline float min(float a, float b) { return (b < a) ? b : a; }  // std::min's order
-inline float max(float a, float b) { return (a < b) ? b : a; }
-inline float sqrt(float a) { return std::sqrt(a); }
-inline float abs(float a) { return std::fabs(a); }
-inline bool andNot(bool a, bool b) { return a && !b; }
-inline bool anyLane(bool m) { return m; }
-template <class M>
-bool anyLane(const M& m) {
-    return m.any();
-}
-
-template <class M, class F>
-Vec3L<F> select3(const M& m, const Vec3L<F>& a, const Vec3L<F>& b) {
-    return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
-}
-template <class F>
-F dot3(const Vec3L<F>& a, const Vec3L<F>& b) {
-    return (a.x * b.x + a.y * b.y) + a.z * b.z;  // glm::dot's order
-}
-template <class F>
-Vec3L<F> normalize3(const Vec3L<F>& v) {
-    const F inv = F(1.0f) / sqrt(dot3(v, v));
-    return v * inv;
-}
 
 // Clip-space coordinates of a point (w = 1) or a direction (w = 0).
 template <class F>
@@ -180,26 +156,6 @@ Candidate<F, M> candidateOf(const SearchConstants& k, const Probe<F>& p, const V
     c.cosine = dot3(to, dir) / sqrt(len2);
     c.valid = (p.texel.w < F(1.0f)) & (len2 > F(k.minDistance2)) & (c.cosine >= F(k.cosMiss));
     return c;
-}
-
-// Snell's law with the normal n against d (dot(d, n) < 0) and eta = η_i/η_t, as
-// raycore's refractDir writes it; `tir` where 1 − η²(1 − cos²) < 0 (θ_i above the critical
-// angle sin⁻¹(η_t/η_i), 004 Figure 4), and there the mirror direction d + 2cos·n.
-template <class F, class M>
-Vec3L<F> refractOrReflect(const Vec3L<F>& d, const Vec3L<F>& n, float eta, M& tir) {
-    const F cosI = -dot3(d, n);
-    const F k = F(1.0f) - F(eta * eta) * (F(1.0f) - cosI * cosI);
-    tir = k < F(0.0f);
-    const Vec3L<F> t = normalize3(d * F(eta) + n * (F(eta) * cosI - sqrt(max(k, F(0.0f)))));
-    const Vec3L<F> r = d + n * (F(2.0f) * cosI);
-    return select3(tir, r, t);
-}
-
-// The normal of a surface turned against the ray.
-template <class F>
-Vec3L<F> facing(const Vec3L<F>& n, const Vec3L<F>& d) {
-    const auto away = dot3(n, d) > F(0.0f);
-    return select3(away, n * F(-1.0f), n);
 }
 
 // The state of a path after the refractor: where its last ray starts and goes, how many
