@@ -152,8 +152,8 @@ class VqTextures4D {
 };
 
 // What renderVq4D can hand back besides the frame: Σ over the parity classes of the
-// destination alpha each basis pass left (read back after every pass A; per pixel, bottom
-// row first like readPixels). Costs one read-back per pass: tests and figures only.
+// destination alpha each basis pass left (read back after every pass A; per pixel in
+// readPixels order). Costs one read-back per pass: tests and figures only.
 struct Vq4DProbe {
     std::vector<int> basisSum;
 };

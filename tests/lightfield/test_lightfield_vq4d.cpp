@@ -226,3 +226,27 @@ TEST(Vq4DPasses, AProfileWithout4DTexturesIsRefusedByName) {
 
 }  // namespace
 }  // namespace rg::lightfield
+
+#include "figure6.h"
+
+namespace rg::lightfield {
+namespace {
+
+TEST(Figure6Sums, OneHotIsAPartitionOfUnityAndTwoPixelsSumToTwo) {
+    // 2D: 4 bilinear passes, each rounded once (≤ ½): |Σ − 255| ≤ 2. 4D: 16 passes, ≤ 8.
+    // "Two pixels" one texture per class: every texel counted twice, Σ = 510 within twice
+    // those; the distinct textures (2 in 2D, 8 in 4D) each cover two classes, Σ = 255.
+    const Figure6 f = makeFigure6(profile(ProfileId::SgiOctaneMxe), 4000);
+    EXPECT_LE(f.sums["2d"]["one_hot"]["max_error_lsb"].get<int>(), 2);
+    EXPECT_LE(f.sums["2d"]["two_pixels_one_per_class"]["max_error_lsb"].get<int>(), 4);
+    EXPECT_LE(f.sums["2d"]["two_pixels_distinct"]["max_error_lsb"].get<int>(), 1);
+    EXPECT_LE(f.sums["4d"]["one_hot"]["max_error_lsb"].get<int>(), 8);
+    EXPECT_LE(f.sums["4d"]["two_pixels_one_per_class"]["max_error_lsb"].get<int>(), 16);
+    EXPECT_LE(f.sums["4d"]["two_pixels_distinct"]["max_error_lsb"].get<int>(), 4);
+    EXPECT_EQ(f.sums["4d"]["two_pixels_distinct"]["textures"].get<int>(), 8);
+    EXPECT_GT(f.image.width, 0);
+    EXPECT_THROW(makeFigure6(profile(ProfileId::SgiO2), 10), UnsupportedFeature);
+}
+
+}  // namespace
+}  // namespace rg::lightfield
