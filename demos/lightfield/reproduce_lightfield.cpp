@@ -807,6 +807,32 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
             vqj["vq_4d"] = v4;
             r["figure6"] = fig6.sums;
         }
+        // ---- why plate 3's ordering is thin against the ray tracer (issue 18) ---------------
+        // The rendering of a VQ light field carries two errors: the light field's own (its
+        // sampling of the object, the uncompressed rendering's error against the ray tracer)
+        // and the codebook's (the variant against the uncompressed rendering). Were they
+        // independent their MSEs would add; the prediction beside the measurement shows how
+        // far the second can move the first. The passes themselves are checked against the
+        // decoded light field drawn the uncompressed way (misread blocks or tables would show
+        // there, not here).
+        {
+            nlohmann::json an;
+            const double mseUnc = std::pow(10.0, -psnrTruth["uncompressed"] / 10.0);  // peak 1
+            an["uncompressed_mse_vs_raytracer"] = mseUnc;
+            // The codebook MSE that would open a gap of g dB: (10^(g/10) − 1)·MSE_unc.
+            an["codebook_psnr_needed_for_0_5_db_gap"] = psnrTruth["uncompressed"] - 10.0 * std::log10(std::pow(10.0, 0.05) - 1.0);
+            for (const char* n : {"st_halved", "uv_halved", "all_halved"}) {
+                const auto& v = variants[n];
+                const double c = v["psnr_vs_uncompressed"]["psnr_db"].get<double>();
+                const double mseC = std::pow(10.0, -c / 10.0);
+                an[n] = {{"psnr_vs_raytracer", psnrTruth[n]},
+                         {"psnr_vs_uncompressed", c},
+                         {"psnr_vs_decoded_light_field", v["psnr_vs_decoded_light_field"]["psnr_db"]},
+                         {"codebook_mse_over_light_field_mse", mseC / mseUnc},
+                         {"predicted_psnr_vs_raytracer_if_independent", -10.0 * std::log10(mseUnc + mseC)}};
+            }
+            vqj["plate3_ordering_analysis"] = an;
+        }
         rep.claim(demos::claimAtLeast("uncompressed_beats_uv_halved", "§5, colour plate 3",
                                       "The uncompressed light field renders better than the one with reduced resolution on the (u, v)-plane",
                                       "uncompressed", psnrTruth["uncompressed"], "uv_halved", psnrTruth["uv_halved"], 0.5, "dB"));
@@ -1028,6 +1054,30 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
               "sampler's (16 taps a basis fragment; no fast path for 4D textures). The two VQ routes differ in the (s, t) "
               "interpolant: the hexagon's barycentric hat against the 4D texture's bilinear tent; they agree exactly on data affine "
               "in (s, t) (test: within 8 LSB, mean 1.3), here to " << num(v4["psnr_vs_alpha_basis_vq"]["psnr_db"].get<double>()) << " dB.\n\n";
+    }
+    if (vqj.contains("plate3_ordering_analysis")) {
+        const auto& an = vqj["plate3_ordering_analysis"];
+        rep.heading("§5: why the orderings against the ray tracer are thin");
+        md << "The claims `uncompressed_beats_uv_halved` and `uv_halved_beats_all_halved` compare against the ray tracer. "
+              "Two errors add there: the light field's own sampling of the object (the uncompressed rendering scores "
+           << num(an["uncompressed_mse_vs_raytracer"].is_number() ? -10.0 * std::log10(an["uncompressed_mse_vs_raytracer"].get<double>()) : 0.0) << " dB) and the codebook's (each variant against the uncompressed rendering). "
+              "The passes are not the cause: each variant reproduces its own decoded light field, drawn the uncompressed way, "
+              "to " << num(an["uv_halved"]["psnr_vs_decoded_light_field"].get<double>()) << " dB ((u, v) halved) and "
+           << num(an["all_halved"]["psnr_vs_decoded_light_field"].get<double>()) << " dB (all halved), where a wrong "
+              "½-sample offset or table order costs tens of LSB (tests `VqPasses`, `Vq4DPasses`).\n\n";
+        demos::Table t{{"variant", "vs ray tracer (dB)", "vs uncompressed (dB)", "codebook MSE ÷ light-field MSE",
+                        "predicted vs ray tracer if the errors were independent (dB)"}, {}};
+        for (const char* n : {"uv_halved", "all_halved"})
+            t.rows.push_back({n, num(an[n]["psnr_vs_raytracer"].get<double>()), num(an[n]["psnr_vs_uncompressed"].get<double>()),
+                              num(an[n]["codebook_mse_over_light_field_mse"].get<double>(), 3),
+                              num(an[n]["predicted_psnr_vs_raytracer_if_independent"].get<double>())});
+        rep.table(t);
+        md << "The codebook's error is a few percent of the light field's, so it moves the score against the ray tracer by "
+              "tenths of a dB, as the independent-error prediction says. A 0.5 dB gap needs a codebook scoring at most "
+           << num(an["codebook_psnr_needed_for_0_5_db_gap"].get<double>()) << " dB against the uncompressed light field. "
+              "This is a property of the setting (a refracting object sampled at " << S.radS << "·" << S.radS << "·" << S.radU
+           << "·" << S.radU << "), not of the passes or the training: against the uncompressed light field, the comparison "
+              "colour plate 3 makes side by side, the ordering holds (`uv_halved_beats_all_halved_vs_uncompressed`).\n\n";
     }
     rep.heading("Choices where the paper is silent");
     md << "- **Slabs.** One slab; eye points at grid vertices over [−1, 1]² at z = 6, the window over [−2, 2]² at z = 0 through the "
