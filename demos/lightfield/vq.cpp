@@ -174,27 +174,25 @@ LightField decode(const VqLightField& vq) {
     return lf;
 }
 
-VqTextures::VqTextures(std::shared_ptr<tex::TextureMemory> memory, const VqLightField& vq) : vq_(&vq) {
+VqTextures::VqTextures(std::shared_ptr<tex::TextureMemory> memory, const VqLightField& vq) : vq_(&vq), memory_(memory) {
     const Profile& p = memory->profile();
     p.require(Feature::TextureColorTable, "VQ codebook decoding");
     p.requireLimit("texture colour table size (the VQ codebook)", vq.K, p.colorTableSize);
     checkIndices(vq);
-    const bool wide = vq.indexBytes() == 2;
-    const int bu = vq.blocksU(), bv = vq.blocksV();
-    for (int bj = 0; bj < vq.blocksT(); ++bj)
-        for (int bi = 0; bi < vq.blocksS(); ++bi) {
-            auto t = memory->create({tex::TextureTarget::Texture2D, wide ? tex::TexelFormat::I16 : tex::TexelFormat::I8, bu, bv, 1, 1, 1});
-            std::vector<uint8_t> bytes;
-            bytes.reserve(size_t(bu) * bv * 2);
-            for (int bl = 0; bl < bv; ++bl)
-                for (int bk = 0; bk < bu; ++bk) {
-                    const uint32_t v = indexTexel(vq.indices[vq.blockIndex(bi, bj, bk, bl)], vq.K);
-                    bytes.push_back(uint8_t(v & 0xff));
-                    if (wide) bytes.push_back(uint8_t(v >> 8));
-                }
-            memory->upload(*t, 0, 0, bytes);
-            textures_.push_back(std::move(t));
-        }
+    const tex::TextureDesc desc{tex::TextureTarget::Texture2D, vq.indexBytes() == 2 ? tex::TexelFormat::I16 : tex::TexelFormat::I8,
+                                vq.blocksU(), vq.blocksV(), 1, 1, 1};
+    const uint64_t basisBytes = 4;  // the 2×2 A8 texture below
+    const bool fits = memory->residentBytes() + vq.indexTextureBytes() + basisBytes <= p.textureMemoryBytes;
+    if (fits) {
+        for (int bj = 0; bj < vq.blocksT(); ++bj)
+            for (int bi = 0; bi < vq.blocksS(); ++bi) {
+                auto t = memory->create(desc);
+                memory->upload(*t, 0, 0, indexBytes(bi, bj));
+                textures_.push_back(std::move(t));
+            }
+    } else {
+        stream_ = memory->create(desc);
+    }
     tables_ = parityTables(vq);
     // Fig. 5's texture: 2×2, exactly one texel one (texel (0, 0)); the parity is a shift.
     basis_ = memory->create({tex::TextureTarget::Texture2D, tex::TexelFormat::A8, 2, 2, 1, 1, 1});
@@ -202,8 +200,32 @@ VqTextures::VqTextures(std::shared_ptr<tex::TextureMemory> memory, const VqLight
     memory->upload(*basis_, 0, 0, one);
 }
 
+std::vector<uint8_t> VqTextures::indexBytes(int bi, int bj) const {
+    const bool wide = vq_->indexBytes() == 2;
+    std::vector<uint8_t> bytes;
+    bytes.reserve(size_t(vq_->blocksU()) * size_t(vq_->blocksV()) * 2);
+    for (int bl = 0; bl < vq_->blocksV(); ++bl)
+        for (int bk = 0; bk < vq_->blocksU(); ++bk) {
+            const uint32_t v = indexTexel(vq_->indices[vq_->blockIndex(bi, bj, bk, bl)], vq_->K);
+            bytes.push_back(uint8_t(v & 0xff));
+            if (wide) bytes.push_back(uint8_t(v >> 8));
+        }
+    return bytes;
+}
+
+std::shared_ptr<const tex::Texture> VqTextures::indexTexture(int bi, int bj) const {
+    const int k = bj * vq_->blocksS() + bi;
+    if (!stream_) return textures_[size_t(k)];
+    if (streamed_ != k) {
+        memory_->upload(*stream_, 0, 0, indexBytes(bi, bj));
+        streamed_ = k;
+    }
+    return stream_;
+}
+
 uint64_t VqTextures::textureBytes() const {
     uint64_t b = basis_->bytes();
+    if (stream_) b += stream_->bytes();
     for (const auto& t : textures_) b += t->bytes();
     return b;
 }

@@ -85,17 +85,29 @@ class VqTextures {
   public:
     // Refuses (rg::UnsupportedFeature naming the profile) a codebook larger than the
     // profile's colour tables, and an index outside the codebook (rg::Error).
+    //
+    // When the index textures do not all fit beside what the memory holds (the (s, t)- or
+    // (u, v)-halved variants at the paper's 32·32·128·128: 8 MiB of 2-byte indices against
+    // the Octane's 4 MiB), one texture is re-uploaded whenever another block's indices are
+    // asked for — §5's "swapped in and out for every frame", counted by the memory's
+    // uploads — instead of refusing the frame.
     VqTextures(std::shared_ptr<tex::TextureMemory> memory, const VqLightField& vq);
-    std::shared_ptr<const tex::Texture> indexTexture(int bi, int bj) const {
-        return textures_[size_t(bj) * vq_->blocksS() + size_t(bi)];
-    }
+    // Block (bi, bj)'s index texture; uploads it first when swapping. The upload changes
+    // which block the one streaming texture holds, not what any draw sees: residency, so
+    // the accessor stays const (the members it touches are mutable).
+    std::shared_ptr<const tex::Texture> indexTexture(int bi, int bj) const;
     std::shared_ptr<const tex::ColorTable> table(int parity) const { return tables_[size_t(parity)]; }
     std::shared_ptr<const tex::Texture> basis() const { return basis_; }
+    bool resident() const { return stream_ == nullptr; }
     uint64_t textureBytes() const;
 
   private:
+    std::vector<uint8_t> indexBytes(int bi, int bj) const;
     const VqLightField* vq_;
+    std::shared_ptr<tex::TextureMemory> memory_;
     std::vector<std::shared_ptr<tex::Texture>> textures_;
+    std::shared_ptr<tex::Texture> stream_;  // when swapping: the one index texture
+    mutable int streamed_ = -1;             // the block it holds
     std::vector<std::shared_ptr<const tex::ColorTable>> tables_;
     std::shared_ptr<tex::Texture> basis_;
 };

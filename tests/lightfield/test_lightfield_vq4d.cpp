@@ -250,3 +250,49 @@ TEST(Figure6Sums, OneHotIsAPartitionOfUnityAndTwoPixelsSumToTwo) {
 
 }  // namespace
 }  // namespace rg::lightfield
+
+namespace rg::lightfield {
+namespace {
+
+TEST(VqSwapping, IndexTexturesThatDoNotFitAreStreamedAndDrawTheSameFrame) {
+    // The Octane's 4 MiB filled to 1 KiB short: the 16 index textures of 128 B (2 KiB)
+    // cannot all be resident, one streaming texture and the 4-byte basis can. The frame is
+    // the resident one byte for byte; each colour pass whose block differs from the last
+    // uploads its 128 bytes.
+    const LightField lf = randomField();
+    const VqLightField vq = identityVq(lf, {2, 2, 2, 2});
+    const Profile& octane = profile(ProfileId::SgiOctaneMxe);
+    auto frame = [&](bool fill, uint64_t* uploads, bool* resident) {
+        auto mem = std::make_shared<tex::TextureMemory>(octane);
+        std::vector<std::shared_ptr<tex::Texture>> ballast;
+        if (fill)
+            for (int k = 0; k < 12; ++k) {  // 2 MiB, 1 MiB, ... 1 KiB of RGBA8
+                const int w = 1024 >> ((k + 1) / 2), h = 512 >> (k / 2);
+                ballast.push_back(mem->create({tex::TextureTarget::Texture2D, tex::TexelFormat::RGBA8, w, h, 1, 1, 1}));
+            }
+        if (fill) EXPECT_EQ(mem->residentBytes(), octane.textureMemoryBytes - 1024);
+        const VqTextures tx(mem, vq);
+        *resident = tx.resident();
+        raster::Device dev(octane, kSize, kSize, raster::DepthFormat::None);
+        dev.textureUnits().setTextureMemory(mem);
+        dev.beginFrame();
+        const VqStats st = renderVq(dev, tx, vq, camera());
+        dev.endFrame();
+        *uploads = dev.textureUnits().counters().uploadBytes;
+        EXPECT_EQ(st.colorPasses, 4 * lf.slab.S * lf.slab.T);
+        return dev.readPixels(0, 0, kSize, kSize);
+    };
+    uint64_t upResident = 0, upSwapped = 0;
+    bool resident = false, swappedResident = true;
+    const std::vector<Rgba8> a = frame(false, &upResident, &resident);
+    const std::vector<Rgba8> b = frame(true, &upSwapped, &swappedResident);
+    EXPECT_TRUE(resident);
+    EXPECT_FALSE(swappedResident);
+    EXPECT_EQ(a, b);
+    EXPECT_EQ(upResident, 0u);
+    // Eye points in parity order: every colour pass draws another block's indices.
+    EXPECT_EQ(upSwapped, uint64_t(4 * lf.slab.S * lf.slab.T) * 128u);
+}
+
+}  // namespace
+}  // namespace rg::lightfield
