@@ -41,6 +41,10 @@ class LightfieldReproduction final : public demos::Reproduction {
     std::string profile() const override { return "sgi-octane-mxe"; }
     nlohmann::json settings(demos::Quality quality) const override;
     nlohmann::json reproduce(const demos::ReproduceOptions& options) const override;
+    // `retroglass compare`: the first glass or mirror object (lightfield_technique.cpp).
+    std::string appliesTo(const ray::Scene& scene) const override;
+    std::unique_ptr<demos::Technique> prepare(const ray::Scene& scene, const std::vector<ray::Camera>& views,
+                                              const demos::PrepareOptions& options) const override;
     std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
     std::vector<demos::BenchCase> benchCases() const override;
 };

@@ -57,6 +57,40 @@ void assign(const MatrixF& X, const MatrixF& C, std::vector<int>& label, int thr
     });
 }
 
+// The index as an index texture holds it. The colour table reads entry
+// round(v/(2^bits − 1)·(N − 1)) of N = K entries (docs/hardware.md, "Colour tables"), so v
+// is the index scaled by (2^bits − 1)/(K − 1), rounded: the table's rounding gives the
+// index back. 16 bits when K > 256 (I16), else 8 (I8).
+uint32_t indexTexel(uint32_t idx, int K) {
+    if (K > 256) return K == 65536 ? idx : uint32_t((uint64_t(idx) * 65535 * 2 + uint64_t(K - 1)) / (2 * uint64_t(K - 1)));
+    return (idx * 255 * 2 + uint32_t(K - 1)) / (2 * uint32_t(K - 1));
+}
+
+void checkIndices(const VqLightField& vq) {
+    for (size_t b = 0; b < vq.indices.size(); ++b)
+        if (vq.indices[b] >= vq.K)
+            throw Error("vq: block " + std::to_string(b) + " has codebook index " + std::to_string(vq.indices[b]) +
+                        ", outside the codebook of " + std::to_string(vq.K));
+}
+
+// Table p: entry k = sample p of codeword k ("16 different tables, where each only returns
+// a single color value"), alpha 255.
+std::vector<std::shared_ptr<const tex::ColorTable>> parityTables(const VqLightField& vq) {
+    std::vector<std::shared_ptr<const tex::ColorTable>> tables;
+    const int D = vq.shape.dims();
+    for (int parity = 0; parity < vq.shape.samples(); ++parity) {
+        auto table = std::make_shared<tex::ColorTable>();
+        table->format = tex::BaseFormat::Rgba;
+        table->entries.resize(size_t(vq.K));
+        for (int k = 0; k < vq.K; ++k) {
+            const uint8_t* c = vq.codebook.data() + size_t(k) * D + size_t(3 * parity);
+            table->entries[size_t(k)] = {c[0], c[1], c[2], 255};
+        }
+        tables.push_back(std::move(table));
+    }
+    return tables;
+}
+
 }  // namespace
 
 VqLightField quantize(const LightField& lf, const BlockShape& sh, const VqOptions& o) {
@@ -140,57 +174,58 @@ LightField decode(const VqLightField& vq) {
     return lf;
 }
 
-VqTextures::VqTextures(std::shared_ptr<tex::TextureMemory> memory, const VqLightField& vq) : vq_(&vq) {
+VqTextures::VqTextures(std::shared_ptr<tex::TextureMemory> memory, const VqLightField& vq) : vq_(&vq), memory_(memory) {
     const Profile& p = memory->profile();
     p.require(Feature::TextureColorTable, "VQ codebook decoding");
     p.requireLimit("texture colour table size (the VQ codebook)", vq.K, p.colorTableSize);
-    for (size_t b = 0; b < vq.indices.size(); ++b)
-        if (vq.indices[b] >= vq.K)
-            throw Error("vq: block " + std::to_string(b) + " has codebook index " + std::to_string(vq.indices[b]) +
-                        ", outside the codebook of " + std::to_string(vq.K));
-    const bool wide = vq.indexBytes() == 2;
-    const int bu = vq.blocksU(), bv = vq.blocksV();
-    for (int bj = 0; bj < vq.blocksT(); ++bj)
-        for (int bi = 0; bi < vq.blocksS(); ++bi) {
-            auto t = memory->create({tex::TextureTarget::Texture2D, wide ? tex::TexelFormat::I16 : tex::TexelFormat::I8, bu, bv, 1, 1, 1});
-            std::vector<uint8_t> bytes;
-            bytes.reserve(size_t(bu) * bv * 2);
-            for (int bl = 0; bl < bv; ++bl)
-                for (int bk = 0; bk < bu; ++bk) {
-                    // The index as the texture holds it: 16 bits (N = K ≤ 65536: the table
-                    // index round(v/65535·(N − 1)) must give the index back, so v is scaled),
-                    // or 8 bits the same way.
-                    const uint32_t idx = vq.indices[vq.blockIndex(bi, bj, bk, bl)];
-                    if (wide) {
-                        const uint32_t v = vq.K == 65536 ? idx : uint32_t((uint64_t(idx) * 65535 * 2 + (vq.K - 1)) / (2 * uint64_t(vq.K - 1)));
-                        bytes.push_back(uint8_t(v & 0xff));
-                        bytes.push_back(uint8_t(v >> 8));
-                    } else {
-                        bytes.push_back(uint8_t((idx * 255 * 2 + uint32_t(vq.K - 1)) / (2 * uint32_t(vq.K - 1))));
-                    }
-                }
-            memory->upload(*t, 0, 0, bytes);
-            textures_.push_back(std::move(t));
-        }
-    const int D = vq.shape.dims();
-    for (int parity = 0; parity < vq.shape.samples(); ++parity) {
-        auto table = std::make_shared<tex::ColorTable>();
-        table->format = tex::BaseFormat::Rgba;
-        table->entries.resize(size_t(vq.K));
-        for (int k = 0; k < vq.K; ++k) {
-            const uint8_t* c = vq.codebook.data() + size_t(k) * D + size_t(3 * parity);
-            table->entries[size_t(k)] = {c[0], c[1], c[2], 255};
-        }
-        tables_.push_back(std::move(table));
+    checkIndices(vq);
+    const tex::TextureDesc desc{tex::TextureTarget::Texture2D, vq.indexBytes() == 2 ? tex::TexelFormat::I16 : tex::TexelFormat::I8,
+                                vq.blocksU(), vq.blocksV(), 1, 1, 1};
+    const uint64_t basisBytes = 4;  // the 2×2 A8 texture below
+    const bool fits = memory->residentBytes() + vq.indexTextureBytes() + basisBytes <= p.textureMemoryBytes;
+    if (fits) {
+        for (int bj = 0; bj < vq.blocksT(); ++bj)
+            for (int bi = 0; bi < vq.blocksS(); ++bi) {
+                auto t = memory->create(desc);
+                memory->upload(*t, 0, 0, indexBytes(bi, bj));
+                textures_.push_back(std::move(t));
+            }
+    } else {
+        stream_ = memory->create(desc);
     }
+    tables_ = parityTables(vq);
     // Fig. 5's texture: 2×2, exactly one texel one (texel (0, 0)); the parity is a shift.
     basis_ = memory->create({tex::TextureTarget::Texture2D, tex::TexelFormat::A8, 2, 2, 1, 1, 1});
     const uint8_t one[4] = {255, 0, 0, 0};
     memory->upload(*basis_, 0, 0, one);
 }
 
+std::vector<uint8_t> VqTextures::indexBytes(int bi, int bj) const {
+    const bool wide = vq_->indexBytes() == 2;
+    std::vector<uint8_t> bytes;
+    bytes.reserve(size_t(vq_->blocksU()) * size_t(vq_->blocksV()) * 2);
+    for (int bl = 0; bl < vq_->blocksV(); ++bl)
+        for (int bk = 0; bk < vq_->blocksU(); ++bk) {
+            const uint32_t v = indexTexel(vq_->indices[vq_->blockIndex(bi, bj, bk, bl)], vq_->K);
+            bytes.push_back(uint8_t(v & 0xff));
+            if (wide) bytes.push_back(uint8_t(v >> 8));
+        }
+    return bytes;
+}
+
+std::shared_ptr<const tex::Texture> VqTextures::indexTexture(int bi, int bj) const {
+    const int k = bj * vq_->blocksS() + bi;
+    if (!stream_) return textures_[size_t(k)];
+    if (streamed_ != k) {
+        memory_->upload(*stream_, 0, 0, indexBytes(bi, bj));
+        streamed_ = k;
+    }
+    return stream_;
+}
+
 uint64_t VqTextures::textureBytes() const {
     uint64_t b = basis_->bytes();
+    if (stream_) b += stream_->bytes();
     for (const auto& t : textures_) b += t->bytes();
     return b;
 }
@@ -308,6 +343,162 @@ VqStats renderVq(raster::Device& dev, const VqTextures& tx, const VqLightField& 
         }
         dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Pretransformed, q);
     }
+    return st;
+}
+
+
+// ---- §5 "4D VQ" -----------------------------------------------------------------------
+
+const char* basisReadingName(BasisReading r) {
+    return r == BasisReading::OneHot ? "one-hot" : "two pixels";
+}
+
+VqTextures4D::VqTextures4D(std::shared_ptr<tex::TextureMemory> memory, const VqLightField& vq, BasisReading reading)
+    : reading_(reading) {
+    const Profile& p = memory->profile();
+    // Asked first, so a profile without 4D textures is named for what it lacks (the 2D
+    // route of renderVq is a different algorithm, not a substitute).
+    p.require(Feature::Texture4D, "4D-texture rendering of a VQ light field (Heidrich et al. 1999 §5)");
+    p.require(Feature::TextureColorTable, "VQ codebook decoding");
+    p.requireLimit("texture colour table size (the VQ codebook)", vq.K, p.colorTableSize);
+    checkIndices(vq);
+    // The index texture: texel (x, y, z, w) = block (bk, bl, bi, bj), the light field's
+    // own (u, v, s, t) order, so the 4D coordinate of a ray addresses its block.
+    const bool wide = vq.indexBytes() == 2;
+    const int bu = vq.blocksU(), bv = vq.blocksV(), bs = vq.blocksS(), bt = vq.blocksT();
+    index_ = memory->create({tex::TextureTarget::Texture4D, wide ? tex::TexelFormat::I16 : tex::TexelFormat::I8, bu, bv, bs, bt, 1});
+    std::vector<uint8_t> bytes;
+    bytes.reserve(vq.indices.size() * 2);
+    for (int bj = 0; bj < bt; ++bj)
+        for (int bi = 0; bi < bs; ++bi)
+            for (int bl = 0; bl < bv; ++bl)
+                for (int bk = 0; bk < bu; ++bk) {
+                    const uint32_t v = indexTexel(vq.indices[vq.blockIndex(bi, bj, bk, bl)], vq.K);
+                    bytes.push_back(uint8_t(v & 0xff));
+                    if (wide) bytes.push_back(uint8_t(v >> 8));
+                }
+    memory->upload(*index_, 0, 0, bytes);
+    tables_ = parityTables(vq);
+    // The basis texture: one texel per parity class of the block, 2^4 for 2×2×2×2 (an axis
+    // that is not halved has extent 1 and, under WRAP, a constant weight of one). One-hot:
+    // texel 0 set; "two pixels": texel 0 and the opposite corner.
+    const BlockShape& sh = vq.shape;
+    basis_ = memory->create({tex::TextureTarget::Texture4D, tex::TexelFormat::A8, sh.u, sh.v, sh.s, sh.t, 1});
+    std::vector<uint8_t> texels(size_t(sh.samples()), 0);
+    texels.front() = 255;
+    if (reading == BasisReading::TwoPixels) texels.back() = 255;
+    memory->upload(*basis_, 0, 0, texels);
+}
+
+glm::vec4 window4DCoords(const LightSlab& s, const glm::vec3& eye, float wu, float wv) {
+    const glm::vec3 p = s.windowPoint(wu, wv);
+    const auto stuv = s.intersect(eye, p - eye);
+    if (!stuv) throw Error("vq 4D: the camera lies in the window plane; no ray through the window crosses the eye-point plane");
+    return s.textureCoords(*stuv);
+}
+
+VqStats renderVq4D(raster::Device& dev, const VqTextures4D& tx, const VqLightField& vq, const ray::Camera& camera,
+                   Vq4DProbe* probe) {
+    const LightSlab& s = vq.slab;
+    const BlockShape& sh = vq.shape;
+    const int w = dev.framebuffer().width(), h = dev.framebuffer().height();
+    dev.setTransforms(glm::mat4(1.0f), viewMatrix(camera), projectionMatrix(camera, w, h));
+    dev.setViewport({0, 0, w, h, 0.0f, 1.0f});
+    dev.clear(true, {0, 0, 0, 0}, false, 1.0f);
+    if (probe) probe->basisSum.assign(size_t(w) * size_t(h), 0);
+    tex::TextureUnits& tu = dev.textureUnits();
+    tex::SamplerState nearest;
+    nearest.magFilter = nearest.minFilter = tex::FilterMode::Nearest;
+    nearest.address = {tex::AddressMode::ClampToEdge, tex::AddressMode::ClampToEdge, tex::AddressMode::ClampToEdge,
+                       tex::AddressMode::ClampToEdge};
+    tex::SamplerState basisSampler;  // LINEAR (quadrilinear on a 4D texture), WRAP on s, t, r, q: replicated
+    tex::TexGenState tg;
+    tg.projected = true;  // GL's divide; SGIS_texture4D never divides q (texture_units.cpp)
+    tu.setTexGen(0, tg);
+    const tex::BaseFormat decoded = tex::colorTableResultFormat(tex::BaseFormat::Intensity, tex::BaseFormat::Rgba);
+    // ---- the window polygon and its 4D coordinates ------------------------------------------
+    // Two triangles over the window, corners (0, 0), (1, 0), (1, 1), (0, 1) in window
+    // fractions. Each vertex's (u, v, s, t) is where the ray from the camera through it
+    // crosses the two planes: affine in the window point (both planes are z = const), so
+    // the interpolated coordinate of every fragment is its own ray's.
+    const glm::vec2 corner[6] = {{0, 0}, {1, 0}, {1, 1}, {0, 0}, {1, 1}, {0, 1}};
+    std::array<glm::vec4, 6> coord;
+    std::vector<raster::Vertex> base(6);
+    for (int k = 0; k < 6; ++k) {
+        coord[size_t(k)] = window4DCoords(s, camera.eye, corner[k].x, corner[k].y);
+        base[size_t(k)].position = glm::vec4(s.windowPoint(corner[k].x, corner[k].y), 1.0f);
+        base[size_t(k)].diffuse = {255, 255, 255, 255};
+    }
+    const glm::ivec4 halved(sh.u == 2, sh.v == 2, sh.s == 2, sh.t == 2);
+    const glm::vec4 n(float(s.U), float(s.V), float(s.S), float(s.T));
+    VqStats st;
+    auto frags = [&] { return dev.counters().fragmentsGenerated; };
+    std::vector<raster::Vertex> colour = base, basis = base;
+    for (int parity = 0; parity < sh.samples(); ++parity) {
+        // The inverse of VqLightField::parity: ((pt·s + ps)·v + pv)·u + pu.
+        const glm::ivec4 pb(parity % sh.u, (parity / sh.u) % sh.v, (parity / (sh.u * sh.v)) % sh.s,
+                            parity / (sh.u * sh.v * sh.s));
+        for (int k = 0; k < 6; ++k) {
+            const glm::vec4 c = coord[size_t(k)];
+            glm::vec4 ci = c, cb = c;
+            for (int a = 0; a < 4; ++a) {
+                if (!halved[a]) continue;
+                // Index: ½ sample towards the hat's block (+½ even, −½ odd), as renderVq.
+                ci[a] += (pb[a] == 0 ? 0.5f : -0.5f) / n[a];
+                // Basis: N/2 repetitions of the 2-texel axis; texel 0's centre on the even
+                // samples, one texel's shift (½ in these units) onto the odd ones.
+                cb[a] = c[a] * n[a] * 0.5f - 0.5f * float(pb[a]);
+            }
+            colour[size_t(k)].tex[0] = ci;
+            basis[size_t(k)].tex[0] = cb;
+        }
+        // Pass A: the basis into the destination alpha (REPLACE: the texture's alpha).
+        raster::PipelineState a = additiveState();
+        a.blend = 0;
+        a.colorWriteMask = raster::kWriteA;
+        dev.setState(a);
+        tu.setColorTable(0, nullptr);
+        tu.setTexture(0, tx.basis());
+        tu.setSampler(0, basisSampler);
+        tu.setStage(0, tex::texEnvStage(tex::TexEnvMode::Replace, tex::BaseFormat::Alpha));
+        uint64_t f0 = frags();
+        dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Untransformed, basis);
+        st.basisFragments += frags() - f0;
+        ++st.basisPasses;
+        if (probe) {
+            const std::vector<Rgba8> px = dev.readPixels(0, 0, w, h);
+            for (size_t i = 0; i < px.size(); ++i) probe->basisSum[i] += px[i].a;
+        }
+        // Pass B: the block's index through this parity's table, weighted by the basis.
+        raster::PipelineState b = additiveState();
+        b.srcBlend = raster::BlendFactor::DestAlpha;
+        b.colorWriteMask = raster::kWriteR | raster::kWriteG | raster::kWriteB;
+        dev.setState(b);
+        tu.setStage(0, tex::texEnvStage(tex::TexEnvMode::Replace, decoded));
+        tu.setColorTable(0, tx.table(parity));
+        ++st.tableLoads;
+        tu.setTexture(0, tx.indexTexture());
+        tu.setSampler(0, nearest);
+        f0 = frags();
+        dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Untransformed, colour);
+        st.colorFragments += frags() - f0;
+        ++st.colorPasses;
+    }
+    tu.setColorTable(0, nullptr);
+    // The last basis weight stays in the destination alpha: one (as renderVq) so the frame
+    // reads as opaque.
+    raster::PipelineState a = additiveState();
+    a.blend = 0;
+    a.colorWriteMask = raster::kWriteA;
+    dev.setState(a);
+    tu.setStage(0, tex::StageState{});
+    std::vector<raster::Vertex> q(6);
+    const glm::vec2 c[6] = {{0, 0}, {float(w), 0}, {float(w), float(h)}, {0, 0}, {float(w), float(h)}, {0, float(h)}};
+    for (int k = 0; k < 6; ++k) {
+        q[size_t(k)].position = glm::vec4(c[k], 0.0f, 1.0f);
+        q[size_t(k)].diffuse = {255, 255, 255, 255};
+    }
+    dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Pretransformed, q);
     return st;
 }
 

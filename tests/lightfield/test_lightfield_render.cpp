@@ -222,6 +222,13 @@ TEST(LightfieldClaims, SmallSettingRunsEndToEndAndTheRoutesAgree) {
     EXPECT_TRUE(holds.at("vq_colour_passes_cost_4x"));
     EXPECT_TRUE(holds.at("environment_swap_needs_no_recompute"));
     EXPECT_TRUE(std::filesystem::exists(o.outDir / "figure3.png"));
+    EXPECT_TRUE(std::filesystem::exists(o.outDir / "figure6.png"));
+    // The 4D-texture VQ route ran on the same codebook, its basis a partition of unity.
+    const auto& v4 = r["vector_quantization"]["vq_4d"];
+    EXPECT_EQ(v4["colour_passes"].get<int>(), 16);
+    EXPECT_LE(v4["frame_basis_sums"]["one_hot"]["max_error_lsb"].get<int>(), 8);
+    EXPECT_LE(r["figure6"]["4d"]["one_hot"]["max_error_lsb"].get<int>(), 8);
+    EXPECT_NE(v4["o2_refused"].get<std::string>().find("sgi-o2"), std::string::npos);
     EXPECT_TRUE(std::filesystem::exists(o.outDir / "geometry_lightfield.json"));
 }
 
