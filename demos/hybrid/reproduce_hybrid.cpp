@@ -756,7 +756,23 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
                      {"profile", std::string(profile.name)}, {"scene", lens.scene().name}};
 
     // ---- claims --------------------------------------------------------------------------------
+    // Margins (docs/reports.md, "Margins"). The frames are deterministic, so a margin is the
+    // size a difference must have to be the paper's effect rather than the choice of view or
+    // 8-bit rounding; each comes from a spread measured at quick quality:
+    // - PSNR orderings, 0.5 dB: one technique's PSNR moves by 0.2 dB between the sample's own
+    //   view and the view between samples (multi-layer 25.17 → 24.97 dB), the change a view
+    //   alone makes; the margin is over twice that.
+    // - "at least as good" (τ = 3 against τ = 5): a deficit within that 0.2 dB is a tie.
+    // - Mean 8-bit differences: popping 0.5 levels, twice the multi-layer frame's own excess
+    //   change (0.22 levels: the floor of the measurement for frames that do not pop); edge
+    //   error 0.25 levels, the mean |error| that rounding to 8 bits alone adds (uniform on ±½).
+    // - Ray and test counts are exact: "several times" and "far more" are the bar (≥ 2×); the
+    //   heavier environment must raise the test reduction by 0.5×, a quarter of that bar.
+    // - The two-term model "approximates the full tree well": 30 dB, 5 dB better than the
+    //   multi-layer frame's own agreement with the ray tracer (about 25 dB), so the shading
+    //   model is not what limits the technique.
     constexpr double kMarginDb = 0.5;
+    constexpr double kViewSpreadDb = 0.2;
     auto psnr = [](const View& v, const char* name) { return v.scores.at(name).psnr; };
     rep.claim(demos::claimAtLeast("multi_beats_single_between", "§6, Figure 8a",
                                   "Between viewpoint samples (in the plane) the multi-layer EMs match the ray tracer better than a single layer",
@@ -774,7 +790,7 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
                                   "with", psnr(mid, "multi_layer"), "without", psnr(mid, "without_prevention"), kMarginDb, "dB"));
     rep.claim(demos::claimAtLeast("tau3_at_least_tau5", "§6, Figure 10",
                                   "τ = 3 is at least as good as τ = 5",
-                                  "tau3", psnr(mid, "multi_layer"), "tau5", psnr(mid, "multi_layer_tau_fast"), 0.0, "dB"));
+                                  "tau3", psnr(mid, "multi_layer"), "tau5", psnr(mid, "multi_layer_tau_fast"), -kViewSpreadDb, "dB"));
     rep.claim(demos::claimAtLeast("tau5_noisier_at_edges", "§6, Figure 10",
                                   "τ = 5 is noisier along edges (the bottom of the teapot, where the spout joins the body)",
                                   "tau5_edge_error", 255.0 * edgeTau5, "tau3_edge_error", 255.0 * edgeTau3, 0.25,
@@ -1018,7 +1034,15 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
        << " rays per pixel; the table's uniform ray tracer is the same render.\n"
        << "- **Popping** is the mean change over lens pixels between the nearest-sample frames just before and "
           "after the midpoint (±0.25°), minus the ray tracer's change there. **Edge error**: lens pixels within "
-          "2 pixels of a silhouette or where the ray tracer's paths diverge inside the pixel.\n\n";
+          "2 pixels of a silhouette or where the ray tracer's paths diverge inside the pixel.\n"
+       << "- **Claims' margins.** PSNR orderings by " << num(kMarginDb, 1) << " dB, over twice the "
+       << num(kViewSpreadDb, 1) << " dB a change of view alone moves one technique's PSNR at quick quality "
+          "(multi-layer on the sample against between samples); τ = 3 \"at least as good\" as τ = 5 allows a "
+          "deficit within that spread. Popping by 0.5 8-bit levels, twice the multi-layer frames' own excess "
+          "change (0.22); edge error by 0.25 levels, the mean error 8-bit rounding alone adds. Ray and test "
+          "counts are exact: \"several times\" is at least 2×, and the heavier environment must raise the "
+          "test reduction by 0.5×. The two-term model within 30 dB of the full tree, 5 dB better than the "
+          "frame's own agreement with the ray tracer.\n\n";
     rep.heading("Left out");
     md << "- **Direct images** for disocclusion prevention (000 §4.3's alternative to stacking nearby "
           "viewpoints, with a confidence from the distance to the nearest record): prevention here is ray "

@@ -760,6 +760,22 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     progress.advance();
 
     // ---- claims --------------------------------------------------------------------------------
+    // Margins (docs/reports.md, "Margins"), from spreads measured at quick quality:
+    // - Glass PSNR, 0.5 dB. From 8 to 16 secant iterations, where the analytic room's search
+    //   has converged (its mean error changes by 0.2 %), the glass PSNR still moves by 0.11 dB:
+    //   the spread of the measurement under a change that should not matter. The margin is
+    //   over four times that (and the one every paper's PSNR orderings use); "as close as"
+    //   is within it.
+    // - Figure 2's analytic searches: refining must remove at least half the first guesses'
+    //   error; the first four iterations must gain more than iterations 8 to 16 by the error
+    //   no iteration removes (the converged error e16, the map's sampling: 0.0012 at quick
+    //   quality, some 500 times the 0.000002 that iterations past 8 still move it).
+    // - The refractor map's exit within one texel, the map's resolution (a search that stops
+    //   at the entry misses by the whole chord, many texels).
+    // - The outside search: 95 % agreement with Embree, one ray in twenty wrong.
+    // - The frame-rate ratios and the glass-pixel fit are timings on this machine (its load
+    //   decides them; the tests report them and do not assert them).
+    constexpr double kMarginDb = 0.5;
     auto ratioClaim = [&](const std::string& id, const std::string& section, const std::string& statement,
                           const std::string& what, double ours, double paper, double atLeast) {
         demos::Claim c;
@@ -801,7 +817,9 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
         rep.claim(c);
         demos::Claim d = demos::claimAtLeast("iterations_diminishing_returns", "§3, Figure 2",
                                              "Each further iteration gains less (the secant search converges)",
-                                             "gain_0_to_4", e[0] - e[4], "gain_8_to_16", e[8] - e[16], 0.0, "");
+                                             "gain_0_to_4", e[0] - e[4], "gain_8_to_16", e[8] - e[16], e[16], "");
+        d.measured["converged_error_16"] = e[16];
+        d.test = "gain_0_to_4 − gain_8_to_16 ≥ converged_error_16, the error no iteration removes (analytic box room)";
         rep.claim(d);
     }
     {
@@ -811,7 +829,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
                                           std::to_string(S.depthSweep[i2]) + " is closer to the ray tracer than DEPTH " +
                                           std::to_string(S.depthSweep[i1]),
                                       "glass_psnr_depth_" + std::to_string(S.depthSweep[i2]), psnrByDepth[i2],
-                                      "glass_psnr_depth_" + std::to_string(S.depthSweep[i1]), psnrByDepth[i1], 0.1, "dB"));
+                                      "glass_psnr_depth_" + std::to_string(S.depthSweep[i1]), psnrByDepth[i1], kMarginDb, "dB"));
     }
     if (!fig3.empty()) {
         demos::Claim c;
@@ -842,7 +860,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
                                  "With separation, paths through the moving piece are still found: the image is as close "
                                  "to ray tracing as rebuilding every map",
                                  "glass_psnr_separated", fig9["separated"]["glass_psnr_db"].get<double>(),
-                                 "glass_psnr_classical", fig9["classical"]["glass_psnr_db"].get<double>(), 1.0, "dB"));
+                                 "glass_psnr_classical", fig9["classical"]["glass_psnr_db"].get<double>(), kMarginDb, "dB"));
 
     // ---- report ---------------------------------------------------------------------------------
     std::ostringstream& md = rep.md();
@@ -973,7 +991,13 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
           "impostors (one pass: they already carry DEPTH bounces); static objects drawn into it do not search the "
           "mover.\n"
        << "- **Shadows** (§7): one 1024² Depth32F shadow map per light, resolved into two 512² light maps over the "
-          "board (static pieces, the mover), 2×2 PCF. Caustics are not built; the reference has none.\n\n";
+          "board (static pieces, the mover), 2×2 PCF. Caustics are not built; the reference has none.\n"
+       << "- **Claims' margins.** Glass PSNR orderings by " << num(kMarginDb, 1) << " dB and \"as close\" within it: "
+          "over four times the 0.11 dB the glass PSNR moves from 8 to 16 secant iterations at quick quality, where the "
+          "analytic search has converged (its error changes by 0.2 %). Figure 2: refining removes at least half the first "
+          "guesses' error, and the first four iterations gain more than iterations 8–16 by the error none removes (e16). "
+          "The refractor exit within one texel (the map's resolution); the outside search 95 % right. The frame-rate "
+          "ratios and the glass-pixel fit are timings on this machine.\n\n";
     r["settings"] = {{"quality", demos::qualityName(options.quality)},
                      {"image_size", S.imageSize},
                      {"env_size", S.envSize},

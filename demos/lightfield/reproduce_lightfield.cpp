@@ -42,6 +42,26 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using demos::num;
 
+// Margins of the claims (docs/reports.md, "Margins"). The renders are deterministic; a margin
+// is the size a difference must have to be the paper's effect rather than a rounding
+// accident or the choice of view.
+// - PSNR orderings, 0.5 dB. This reproduction evaluates one view, so it has no spread of its
+//   own across views; the same measurement in hybrid and tir moves by at most 0.2 dB under a
+//   change that should not matter (hybrid's multi-layer frame from the sample's view to
+//   between samples; tir's front-face search added where it changes few pixels),
+//   and the emulated passes themselves
+//   add far less here (the all-halved VQ frame against its own decoded light field drawn the
+//   uncompressed way: 46 dB at quick quality, a change of under 0.01 dB at 19 dB). Every
+//   PSNR ordering of the paper uses the one margin (colour plate 3's (u, v) against all
+//   halved had 0.25 dB and the lighting 1 dB before, neither from a measured spread).
+constexpr double kMarginDb = 0.5;
+// - "About four times" the cost: colour-pass fragments are exact counts, so the tolerance
+//   is the word "about": ±0.5×, an eighth of the ratio.
+constexpr double kCostTolerance = 0.5;
+// - The Gortler weights: three 8-bit vertex weights, each rounded by up to ½ LSB, sum in the
+//   blender with its own rounding: up to 2 LSB from rounding alone.
+constexpr double kWeightToleranceLsb = 2.0;
+
 double seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
 
 template <class F>
@@ -840,19 +860,19 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
         }
         rep.claim(demos::claimAtLeast("uncompressed_beats_uv_halved", "§5, colour plate 3",
                                       "The uncompressed light field renders better than the one with reduced resolution on the (u, v)-plane",
-                                      "uncompressed", psnrTruth["uncompressed"], "uv_halved", psnrTruth["uv_halved"], 0.5, "dB"));
+                                      "uncompressed", psnrTruth["uncompressed"], "uv_halved", psnrTruth["uv_halved"], kMarginDb, "dB"));
         rep.claim(demos::claimAtLeast("uv_halved_beats_all_halved", "§5, colour plate 3",
                                       "Reducing the resolution in all 4 dimensions costs more quality than on the (u, v)-plane alone",
-                                      "uv_halved", psnrTruth["uv_halved"], "all_halved", psnrTruth["all_halved"], 0.25, "dB"));
+                                      "uv_halved", psnrTruth["uv_halved"], "all_halved", psnrTruth["all_halved"], kMarginDb, "dB"));
         rep.claim(demos::claimWithin("vq_colour_passes_cost_4x", "§5",
                                      "The cost of rendering the VQ light field is about four times that of an uncompressed one (colour-pass fragments)",
-                                     "vq_over_uncompressed", colourRatio, "paper", 4.0, 0.5, "×"));
+                                     "vq_over_uncompressed", colourRatio, "paper", 4.0, kCostTolerance, "×"));
         // The same ordering measured against the uncompressed light field (the compression's
         // own error, what colour plate 3 shows side by side).
         rep.claim(demos::claimAtLeast("uv_halved_beats_all_halved_vs_uncompressed", "§5, colour plate 3",
                                       "Against the uncompressed light field, reducing all 4 dimensions loses more than reducing (u, v) alone",
                                       "uv_halved", variants["uv_halved"]["psnr_vs_uncompressed"]["psnr_db"].get<double>(), "all_halved",
-                                      variants["all_halved"]["psnr_vs_uncompressed"]["psnr_db"].get<double>(), 0.5, "dB"));
+                                      variants["all_halved"]["psnr_vs_uncompressed"]["psnr_db"].get<double>(), kMarginDb, "dB"));
         demos::Claim c;
         c.id = "uncompressed_overflows_compressed_fits";
         c.section = "§5";
@@ -873,7 +893,7 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
     rep.claim(demos::claimAtLeast("light_field_lighting_beats_environment_map", "§4.1",
                                   "Illumination from a second light field handles objects close to the refractor, which an environment map cannot",
                                   "light_field", lit["light_field_lighting"]["psnr_db"].get<double>(), "environment_map",
-                                  lit["environment_map_lighting"]["psnr_db"].get<double>(), 1.0, "dB"));
+                                  lit["environment_map_lighting"]["psnr_db"].get<double>(), kMarginDb, "dB"));
     {
         demos::Claim c;
         c.id = "environment_swap_needs_no_recompute";
@@ -888,7 +908,7 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
     }
     rep.claim(demos::claimWithin("gortler_weights_sum_to_one", "§3 (derived)",
                                  "The alpha-weighted eye points reconstruct: their weights sum to one wherever the eye points cover the ray",
-                                 "max_error_lsb", double(maxWeightError), "zero", 0.0, 2.0, "LSB"));
+                                 "max_error_lsb", double(maxWeightError), "zero", 0.0, kWeightToleranceLsb, "LSB"));
     {
         const double ptFps = fps["pixel_texture_sgi_octane_mxe"]["fps"].get<double>();
         const double swFps = fps["software_sgi_o2"]["fps"].get<double>();
@@ -1108,8 +1128,14 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
           "pixels\" under which the basis sums to one with 16 tables (Figure 6 shows both readings); the window polygon "
           "clipped by nothing, so rays outside the eye-point hull take the edge eye points' indices (CLAMP_TO_EDGE) with "
           "wrapped basis weights.\n"
-       << "- **Claims' margins.** Quality orderings 0.5 dB (uncompressed vs (u, v) halved) and 0.25 dB ((u, v) vs all halved); "
-          "light-field lighting 1 dB over the environment map; the 4× cost within ±0.5; routes equal to the byte.\n\n";
+       << "- **Claims' margins.** Every PSNR ordering by " << num(kMarginDb, 1) << " dB: one view is evaluated here, and the "
+          "same measurement in hybrid and tir moves by at most 0.2 dB under a change that should not matter (hybrid's multi-layer "
+          "frame from the sample's view to between samples), while "
+          "the emulated passes add under 0.01 dB (the all-halved frame against its decoded light field: 46 dB). The 4× cost "
+          "within ±" << num(kCostTolerance, 1) << " (exact fragment counts; the tolerance is the paper's \"about\"); the "
+          "Gortler weights within " << num(kWeightToleranceLsb, 0) << " LSB (three 8-bit weights and the blender, each "
+          "rounding by up to ½ LSB); the two routes equal to the byte; the slower route at least the paper's 10 fps "
+          "(a timing on this machine).\n\n";
     rep.heading("Left out");
     md << "- The viewer (`retroglass view lightfield`) has no 4D-texture VQ mode; the reproduction and `retroglass compare` "
           "draw it.\n\n";

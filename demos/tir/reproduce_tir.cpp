@@ -156,10 +156,21 @@ nlohmann::json runTir(const TirReproduceSettings& S, const demos::ReproduceOptio
     auto pick = [&](const char* name) -> const std::string { return builtIn ? name : "user"; };
     const std::string tirScene = pick("prism"), nearScene = pick("kitchen"), figure1Scene = pick("dragon");
 
+    // The scenes the frames are drawn from: the same ones, unless S.frameIor gives the glass
+    // another index (the reference, the masks and Figure 6's hits keep the scene's).
+    std::map<std::string, TirScene> frameScenes;
+    if (S.frameIor > 0.0f)
+        for (const auto& [name, sc] : scenes) {
+            TirScene f = sc;
+            f.scene.materials.at(f.scene.objects.at(f.refractor).material).ior = S.frameIor;
+            frameScenes.emplace(name, std::move(f));
+        }
     std::map<std::string, std::unique_ptr<TirRenderer>> renderers;
     auto renderer = [&](const std::string& name) -> TirRenderer& {
         auto& p = renderers[name];
-        if (!p) p = std::make_unique<TirRenderer>(scenes.at(name), threads, rasterPath, S.textureSize);
+        if (!p)
+            p = std::make_unique<TirRenderer>(frameScenes.empty() ? scenes.at(name) : frameScenes.at(name), threads,
+                                              rasterPath, S.textureSize);
         return *p;
     };
     TirSettings base;
@@ -394,6 +405,17 @@ nlohmann::json runTir(const TirReproduceSettings& S, const demos::ReproduceOptio
     progress.advance();
 
     // ---- claims ------------------------------------------------------------------------------
+    // Margins (docs/reports.md, "Margins"). The frames are deterministic; a margin is the size
+    // a difference must have to be the paper's effect rather than a change of small
+    // consequence. At quick quality changes that touch few of the refractor's pixels move one
+    // method's PSNR by up to 0.06 dB: adding the front-face search on the dragon, statue and
+    // prism (0.01, 0.03, 0.06 dB), a fourth bounce on the prism (0.00 dB). PSNR orderings, the
+    // orderings of PSNR gains included, hold by 0.5 dB, eight times that and the margin of
+    // every paper's PSNR orderings (hybrid: over twice the 0.2 dB its multi-layer frame moves
+    // from the sample's view to between samples); "similar" means within the same 0.5 dB.
+    // Figure 6's counts are exact over all scenes' pixels: "most
+    // cases" is a majority and "without losing agreement" no loss at all. Table 1's claims
+    // are timings (this machine's load decides them; the tests do not assert them).
     constexpr double kMarginDb = 0.5;
     rep.claim(demos::claimAtLeast("more_bounces_closer", "§4, Figure 8",
                                   "More internal bounces bring the image closer to the ray tracer",
@@ -401,7 +423,7 @@ nlohmann::json runTir(const TirReproduceSettings& S, const demos::ReproduceOptio
     {
         demos::Claim c = demos::claimAtLeast(
             "diminishing_returns", "§4", "The more bounces a ray takes, the less impact each bounce has",
-            "gain_1_to_2", psnrByBounces[1] - psnrByBounces[0], "gain_2_to_3", psnrByBounces[2] - psnrByBounces[1], 0.0, "dB");
+            "gain_1_to_2", psnrByBounces[1] - psnrByBounces[0], "gain_2_to_3", psnrByBounces[2] - psnrByBounces[1], kMarginDb, "dB");
         rep.claim(c);
     }
     for (const std::string& name : {figure1Scene, tirScene}) {
@@ -447,7 +469,7 @@ nlohmann::json runTir(const TirReproduceSettings& S, const demos::ReproduceOptio
         c.measured["front_hits"] = all.frontIsRight();
         c.measured["agreement"] = all.agreement();
         c.measured["back_only_agreement"] = all.backOnlyAgreement();
-        c.holds = c.holds && all.agreement() >= all.backOnlyAgreement();
+        c.holds = all.frontRecall() > 0.5 && all.agreement() >= all.backOnlyAgreement();
         c.test = "front_recall > 0.5 and agreement over all compared hits ≥ back_only_agreement";
         rep.claim(c);
     }
@@ -461,7 +483,7 @@ nlohmann::json runTir(const TirReproduceSettings& S, const demos::ReproduceOptio
         rep.claim(demos::claimAtLeast("smaller_maps_hurt_more_with_bounces", "§4, Figure 7",
                                       "Low-resolution intermediate buffers cost little at one bounce and more as "
                                       "bounces are added",
-                                      "loss_2_bounces", drop2, "loss_1_bounce", drop1, 0.0, "dB"));
+                                      "loss_2_bounces", drop2, "loss_1_bounce", drop1, kMarginDb, "dB"));
     }
     if (!table.empty()) {
         // Table 1's shape: frame time linear in the bounces, at every scene and size.
@@ -627,8 +649,12 @@ nlohmann::json runTir(const TirReproduceSettings& S, const demos::ReproduceOptio
           "budget. Figure 7 scores each row against the reference stopped after that row's bounces.\n"
        << "- **Supersampling.** The figures' raster images are rendered at " << ss << "× and box-filtered "
           "(004 §4: \"4x supersampled\"); Table 1 is not supersampled.\n"
-       << "- **Claims.** PSNR orderings hold by " << num(kMarginDb, 1) << " dB; the bounce and map-size "
-          "trends by any positive amount; Table 1's linearity by R² ≥ 0.9.\n\n";
+       << "- **Claims' margins.** PSNR orderings, and the bounce and map-size trends (orderings of PSNR "
+          "gains), hold by " << num(kMarginDb, 1) << " dB, and \"similar\" is within it: eight times the 0.06 dB "
+          "that changes touching few of the refractor's pixels move one method's PSNR at quick quality (the "
+          "front-face search added on the dragon, statue and prism: 0.01–0.06 dB; a fourth bounce on the prism: 0.00 dB), "
+          "and the margin of every paper's PSNR orderings. Figure 6's counts are exact: \"most cases\" is a majority. "
+          "Table 1's linearity by R² ≥ 0.9 and its resolution ratio within 0.1 are timings on this machine.\n\n";
     r["settings"] = {{"quality", demos::qualityName(options.quality)},
                      {"image_size", size},
                      {"supersample", ss},
@@ -640,6 +666,7 @@ nlohmann::json runTir(const TirReproduceSettings& S, const demos::ReproduceOptio
                      {"iterations", {8, 5}},
                      {"miss_degrees", base.missDegrees},
                      {"epsilon_radius", base.epsilon}};
+    if (S.frameIor > 0.0f) r["settings"]["frame_ior"] = S.frameIor;
     r["seconds_total"] = std::chrono::duration<double>(Clock::now() - tStart).count();
     r = rep.write(out, r);
     if (!tableScenes.empty() && table[tableScenes.front()].contains("512"))

@@ -26,6 +26,10 @@ struct TirReproduceSettings {
     int textureSize = 512;
     bool paperMeshes = false;
     int threads = 0;
+    // > 0: the frames draw the glass with this index of refraction instead of the scene's
+    // (the ray-traced reference keeps the scene's): the claims test's deliberately wrong
+    // setting (tests/tir/test_tir_claims.cpp).
+    float frameIor = 0.0f;
 };
 TirReproduceSettings tirSettingsFor(demos::Quality quality);
 

@@ -7,11 +7,18 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
+#include <string>
+#include <tuple>
+#include <vector>
 
+#include "claims_check.h"
 #include "reproduce_impostors.h"
+#include "scratch_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -76,6 +83,133 @@ TEST(ImpostorClaims, TheReproductionRunsSmallAndItsClaimsAreReported) {
     EXPECT_TRUE(claims["refractor_map_finds_the_exit"]) << r["figure3_refractor_exit"].dump();
     EXPECT_TRUE(claims["iterations_reduce_error"]) << r["figure2"].dump();
     fs::remove_all(o.outDir);
+}
+
+// The claims at quick quality, what `retroglass reproduce impostors` runs (docs/testing.md,
+// "Claims tests"), from one run: every claim reported with its numbers and a row in
+// report.md; every verdict is what its numbers say against the margin
+// reproduce_impostors.cpp states (glass PSNR 0.5 dB, over four times the 0.11 dB it moves
+// from 8 to 16 converged secant iterations; Figure 2: half the first guesses' error, and the
+// converged error e16 between early and late gains; the exit within a texel; the outside
+// search 95 % right; the timings' ratios and fit as stated); the claims that hold and do not
+// depend on the machine asserted by id; each decided on the numbers results.json reports.
+TEST(ImpostorClaims, EveryReportedClaimAtQuickQuality) {
+    using namespace rg::test;
+    ImpostorReproduceSettings s = impostorSettingsFor(demos::Quality::Quick);
+    s.timedFrames = 1;  // §8's frame rates decide timing claims only (reported, not asserted)
+    demos::ReproduceOptions o;
+    o.outDir = scratchDir("impostors-quick");
+    const nlohmann::json r = runImpostors(s, o);
+    ASSERT_TRUE(r.contains("claims"));
+    expectEveryClaimReportedWithNumbers(r);
+    EXPECT_EQ(r["claims_total"].get<int>(), 10);
+    for (const auto& c : r["claims"]) expectRowInReport(o.outDir / "report.md", r, c["id"].get<std::string>());
+
+    // The verdicts against the stated margins, whether or not the claim holds.
+    expectAtLeastVerdict(r, "depth_adds_bounces", "glass_psnr_depth_2", "glass_psnr_depth_1", 0.5);
+    expectWithinVerdict(r, "separation_as_good_as_classical", "glass_psnr_separated", "glass_psnr_classical", 0.5);
+    const auto& e = r["figure2"]["mean_error_by_iterations"];
+    {
+        const nlohmann::json c = claimById(r, "iterations_reduce_error");
+        EXPECT_EQ(c["measured"]["error_0_iterations"].get<double>(), e[0].get<double>());
+        EXPECT_EQ(c["measured"]["error_8_iterations"].get<double>(), e[8].get<double>());
+        EXPECT_EQ(c["holds"].get<bool>(), e[0].get<double>() - e[8].get<double>() >= 0.5 * e[0].get<double>()) << c.dump(2);
+    }
+    {
+        const nlohmann::json c = claimById(r, "iterations_diminishing_returns");
+        const double early = e[0].get<double>() - e[4].get<double>(), late = e[8].get<double>() - e[16].get<double>();
+        EXPECT_NEAR(c["measured"]["gain_0_to_4"].get<double>(), early, 1e-15);
+        EXPECT_NEAR(c["measured"]["gain_8_to_16"].get<double>(), late, 1e-15);
+        EXPECT_EQ(c["measured"]["converged_error_16"].get<double>(), e[16].get<double>());
+        EXPECT_EQ(c["holds"].get<bool>(), early - late >= e[16].get<double>()) << c.dump(2);
+    }
+    {
+        const nlohmann::json c = claimById(r, "refractor_map_finds_the_exit");
+        const double median = r["figure3_refractor_exit"]["median_exit_error_texels"].get<double>();
+        EXPECT_EQ(c["measured"]["median_texels"].get<double>(), median);
+        EXPECT_EQ(c["holds"].get<bool>(), median <= 1.0) << c.dump(2);
+    }
+    {
+        const nlohmann::json c = claimById(r, "outside_search_tells_hits_from_misses");
+        const double eps = r["settings"]["epsilon_half_diagonal"].get<double>();
+        double accuracy = -1;
+        for (const auto& row : r["figure4_outside_search"]["by_epsilon"])
+            if (std::abs(row["epsilon_half_diagonal"].get<double>() - eps) < 1e-6) accuracy = row["accuracy"].get<double>();
+        EXPECT_EQ(c["measured"]["accuracy"].get<double>(), accuracy);
+        EXPECT_EQ(c["holds"].get<bool>(), accuracy >= 0.95) << c.dump(2);
+    }
+    // The timings: decided on the ratios and the fit results.json reports, by their bars.
+    for (const auto& [id, ratio, bar] : std::vector<std::tuple<std::string, std::string, double>>{
+             {"static_faster_than_separated", "static_over_separated", 1.2},
+             {"separated_faster_than_classical", "separated_over_classical", 2.0},
+             {"smaller_maps_faster", "small_over_large_maps", 1.1}}) {
+        const nlohmann::json c = claimById(r, id);
+        const double ours = r["timing"]["ratios"][ratio].get<double>();
+        EXPECT_NEAR(c["measured"]["ours"].get<double>(), ours, 1e-12) << id;
+        EXPECT_GT(ours, 0.0) << id;
+        EXPECT_EQ(c["holds"].get<bool>(), ours >= bar) << c.dump(2);
+    }
+    {
+        const nlohmann::json c = claimById(r, "glass_pixels_cost_linearly");
+        const auto& sweep = r["glass_pixels_sweep"];
+        EXPECT_NEAR(c["measured"]["r2"].get<double>(), sweep["r2"].get<double>(), 1e-12);
+        EXPECT_NEAR(c["measured"]["ms_per_million_glass_fragments"].get<double>(),
+                    sweep["ms_per_million_glass_fragments"].get<double>(), 1e-9);
+        EXPECT_EQ(c["holds"].get<bool>(), sweep["ms_per_million_glass_fragments"].get<double>() > 0 &&
+                                              sweep["r2"].get<double>() >= 0.9)
+            << c.dump(2);
+        EXPECT_EQ(sweep["frames"].size(), s.dollies.size());
+    }
+
+    // Decided on the numbers results.json reports.
+    expectMeasuredIs(r, "depth_adds_bounces", "glass_psnr_depth_1", "/depth_sweep/1/glass_psnr_db");
+    expectMeasuredIs(r, "depth_adds_bounces", "glass_psnr_depth_2", "/depth_sweep/2/glass_psnr_db");
+    expectMeasuredIs(r, "separation_as_good_as_classical", "glass_psnr_separated", "/figure9/separated/glass_psnr_db");
+    expectMeasuredIs(r, "separation_as_good_as_classical", "glass_psnr_classical", "/figure9/classical/glass_psnr_db");
+
+    // Every claim that holds at quick quality and does not depend on the machine, by id.
+    for (const char* id : {"iterations_reduce_error", "iterations_diminishing_returns", "refractor_map_finds_the_exit",
+                           "separation_as_good_as_classical"})
+        expectHolds(r, id);
+    // Not asserted to hold (verdicts checked above, rows in report.md):
+    // - depth_adds_bounces: DEPTH 2 is 0.003 dB closer to the ray tracer than DEPTH 1 at quick
+    //   quality (DEPTH 3 0.0001 dB below DEPTH 2), far below 0.5 dB; the report's paragraph
+    //   on total reflection at the exit (64 % of glass pixels in ours, 34 % in the ray
+    //   tracer) shows an error the extra bounce does not touch.
+    // - outside_search_tells_hits_from_misses: 89.9 % agreement with Embree at ε = 3 % of
+    //   the pawn's half diagonal against the 95 % bar; most disagreements are hits missed (the
+    //   report's Figure 4 table).
+    // - static_faster_than_separated, separated_faster_than_classical, smaller_maps_faster
+    //   (they hold today) and glass_pixels_cost_linearly (R² 0.83 in one quick run, 0.94 in
+    //   the next): frame rates on this machine, decided by its load and the suite's other
+    //   processes; reported with their numbers (checked above), never asserted.
+
+    // Orderings the report states: the refractor exit's 95th percentile no nearer than its
+    // median; the mover's impostor alone rebuilt when separated (one of 33 when classical).
+    expectOrdering(r, "/figure3_refractor_exit/p95_exit_error_texels", "/figure3_refractor_exit/median_exit_error_texels",
+                   0.0, "percentiles in order");
+    expectOrdering(r, "/timing/classical/impostors_rebuilt_per_frame", "/timing/separated/impostors_rebuilt_per_frame", 1,
+                   "separation rebuilds the mover's impostor only");
+}
+
+// The claims test can fail: with no secant iteration after the first guesses p and l, the
+// exit a refracted ray finds in the sphere's refractor map is the first guess, and
+// refractor_map_finds_the_exit no longer holds.
+TEST(ImpostorClaims, NoSecantIterationBreaksAClaim) {
+    ImpostorReproduceSettings s = impostorSettingsFor(demos::Quality::Quick);
+    s.iterations = 0;
+    // The sweeps and timings cut short (they decide no claim this changes).
+    s.timedFrames = 1;
+    s.depthSweep = {1, 2};
+    s.iterationSweep = {0};
+    s.dollies = {1.0f, 0.5f};
+    demos::ReproduceOptions o;
+    o.outDir = rg::test::scratchDir("impostors-no-iterations");
+    const nlohmann::json r = runImpostors(s, o);
+    const std::vector<std::string> broken = rg::test::brokenClaims(r);
+    for (const std::string& id : broken) std::printf("does not hold with the wrong setting: %s\n", id.c_str());
+    EXPECT_NE(std::find(broken.begin(), broken.end(), "refractor_map_finds_the_exit"), broken.end())
+        << r["claims"].dump(2);
 }
 
 }  // namespace
