@@ -9,7 +9,7 @@ namespace rg::lightfield {
 
 namespace {
 
-enum ParamIndex { kRoute, kEnvironment, kVqMode };
+enum ParamIndex { kRoute, kEnvironment, kVqMode, kVqRoute };
 
 const BlockShape kShapes[3] = {{2, 2, 1, 1}, {1, 1, 2, 2}, {2, 2, 2, 2}};
 
@@ -20,6 +20,7 @@ struct LightfieldDemo::PerProfile {
     std::unique_ptr<SliceTextures> slices;
     std::shared_ptr<tex::Texture> env[2];  // only where the profile has 3D textures
     std::map<int, std::unique_ptr<VqTextures>> vq;
+    std::map<int, std::unique_ptr<VqTextures4D>> vq4d;
 };
 
 LightfieldDemo::LightfieldDemo(const viewer::DemoOptions& options) : scene_(makeScene(options.scene)), threads_(options.threads) {
@@ -39,6 +40,9 @@ LightfieldDemo::LightfieldDemo(const viewer::DemoOptions& options) : scene_(make
          {scene_.envAName, scene_.envBName}},
         {"vq_mode", "light field", "the geometry light field with a lookup, or a radiance light field vector-quantized (§5)",
          viewer::Param::Kind::Enum, 0, 0, 3, {"geometry + lookup", "VQ (s, t) halved", "VQ (u, v) halved", "VQ all halved"}},
+        {"vq_route", "VQ route", "§5's two ways to draw the VQ light field: the Gortler polygons through colour tables with "
+                                 "the alpha basis, or one polygon with 4D index and basis textures (SGIS_texture4D; the O2 refuses it)",
+         viewer::Param::Kind::Enum, 0, 0, 1, {"colour tables + alpha basis", "4D textures"}},
     };
 }
 
@@ -65,7 +69,9 @@ std::vector<std::string> LightfieldDemo::passDescriptions() const {
     return {"geometry light field: per eye point its hexagon of triangles, weights in the vertex colour, ONE/ONE (§3)",
             "read back: the colour-coded paraboloid coordinates (R, G = s, t; B = back map)",
             "lookup: pixel texture into the 256²×2 map, or in software and written back (§4)",
-            "VQ: per eye point and parity the basis into alpha, then the index through its colour table (§5)"};
+            "VQ: per eye point and parity the basis into alpha, then the index through its colour table (§5)",
+            "VQ, 4D textures: per parity class the 2^4 basis texture into alpha, then the 4D index texture through its colour table, "
+            "one window polygon each (§5 \"4D VQ\")"};
 }
 
 LightfieldDemo::PerProfile& LightfieldDemo::resources(const Profile& p) {
@@ -107,14 +113,27 @@ viewer::FrameNotes LightfieldDemo::render(raster::Device& dev, const ray::Camera
     // One texture memory per machine, as on the hardware: the geometry slices and the VQ
     // index textures of a mode take turns in it.
     if (mode > 0) {
+        const bool route4d = int(viewer::paramValue(params_, "vq_route")) == 1;
         res.slices.reset();
         for (auto& [m, t] : res.vq)
-            if (m != mode) t.reset();
+            if (m != mode || route4d) t.reset();
+        for (auto& [m, t] : res.vq4d)
+            if (m != mode || !route4d) t.reset();
         const VqLightField& q = vq(mode);
-        auto& tx = res.vq[mode];
-        if (!tx) tx = std::make_unique<VqTextures>(res.memory, q);  // refuses K > the profile's tables
-        dev.beginPass("VQ passes");
-        const VqStats st = renderVq(dev, *tx, q, camera);
+        VqStats st;
+        if (route4d) {
+            // Refused by a profile without SGIS_texture4D (rg::UnsupportedFeature names it),
+            // never drawn through the 2D route instead.
+            auto& tx = res.vq4d[mode];
+            if (!tx) tx = std::make_unique<VqTextures4D>(res.memory, q);
+            dev.beginPass("VQ passes, 4D textures");
+            st = renderVq4D(dev, *tx, q, camera);
+        } else {
+            auto& tx = res.vq[mode];
+            if (!tx) tx = std::make_unique<VqTextures>(res.memory, q);  // refuses K > the profile's tables
+            dev.beginPass("VQ passes");
+            st = renderVq(dev, *tx, q, camera);
+        }
         dev.endFrame();
         notes.push_back({"codebook", std::to_string(q.K) + " entries, " + std::to_string(q.indexBytes()) + "-byte indices"});
         notes.push_back({"table loads", std::to_string(st.tableLoads)});
@@ -122,6 +141,7 @@ viewer::FrameNotes LightfieldDemo::render(raster::Device& dev, const ray::Camera
         return notes;
     }
     res.vq.clear();
+    res.vq4d.clear();
     if (!res.slices) res.slices = std::make_unique<SliceTextures>(res.memory, geo_);
     dev.beginPass("geometry light field (Gortler)");
     const GortlerStats gs = renderGortler(dev, *res.slices, geo_, camera);

@@ -33,10 +33,12 @@ class LightfieldDemo final : public viewer::Demo {
     std::vector<std::string> passDescriptions() const override;
     viewer::FrameNotes render(raster::Device& device, const ray::Camera& camera) override;
 
+    // The VQ light field a `vq_mode` (1–3) draws, trained on its first use and kept.
+    const VqLightField& vq(int mode);
+
   private:
     struct PerProfile;  // textures in one profile's texture memory
     PerProfile& resources(const Profile& profile);
-    const VqLightField& vq(int mode);
 
     LfScene scene_;
     std::unique_ptr<ray::Accel> accel_;

@@ -263,5 +263,44 @@ TEST(LightfieldDemo, VqFrameAfterALookupFrameEqualsAFreshDevicesFrame) {
     EXPECT_LT(mean, 235.0);
 }
 
+// The viewer's 4D route is the reproduction's renderVq4D on the same codebook, frame for
+// frame, after a frame of the other route on the same device; a profile without 4D
+// textures refuses it naming itself, and the next frame of the other route still draws.
+TEST(LightfieldDemo, The4DVqRouteIsRenderVq4DAndTheO2RefusesIt) {
+    LightfieldDemo demo(viewer::DemoOptions{});
+    const Profile& octane = profile(ProfileId::SgiOctaneMxe);
+    raster::Device a(octane, 96, 96, raster::DepthFormat::D24);
+    viewer::findParam(demo.params(), "vq_mode").value = 3;
+    viewer::findParam(demo.params(), "vq_route").value = 0;
+    demo.render(a, demo.rig().start);
+    const std::vector<Rgba8> route2d = a.readPixels(0, 0, 96, 96);
+    viewer::findParam(demo.params(), "vq_route").value = 1;
+    demo.render(a, demo.rig().start);
+    const std::vector<Rgba8> viewer4d = a.readPixels(0, 0, 96, 96);
+
+    raster::Device b(octane, 96, 96, raster::DepthFormat::D24);
+    auto memory = std::make_shared<tex::TextureMemory>(octane);
+    b.textureUnits().setTextureMemory(memory);
+    VqTextures4D tx(memory, demo.vq(3));
+    b.beginFrame();
+    renderVq4D(b, tx, demo.vq(3), demo.rig().start);
+    b.endFrame();
+    EXPECT_EQ(viewer4d, b.readPixels(0, 0, 96, 96));
+    EXPECT_NE(viewer4d, route2d) << "the switch did not change the route";
+
+    raster::Device o2(profile(ProfileId::SgiO2), 96, 96, raster::DepthFormat::D24);
+    // Still mode 3 and the 4D route: the profile's want of SGIS_texture4D is what it names.
+    try {
+        demo.render(o2, demo.rig().start);
+        ADD_FAILURE() << "sgi-o2 drew the 4D-texture VQ route";
+    } catch (const UnsupportedFeature& e) {
+        EXPECT_NE(std::string(e.what()).find("sgi-o2"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("4D"), std::string::npos) << e.what();
+    }
+    viewer::findParam(demo.params(), "vq_mode").value = 0;
+    viewer::findParam(demo.params(), "route").value = 1;  // the O2's software lookup
+    EXPECT_NO_THROW(demo.render(o2, demo.rig().start));
+}
+
 }  // namespace
 }  // namespace rg::lightfield
