@@ -106,6 +106,17 @@ bool layerPoint(const Shell& shell, const glm::vec3& origin, const glm::vec3& di
     return !(forced && shell.kind == ShellKind::Quad);
 }
 
+// A quad's texture covers its rectangle only: a ray meeting the plane outside it would
+// land, clamped, on the edge texels with the colour of whatever lies far off there.
+namespace {
+bool onTexture(const Shell& shell, const glm::vec3& origin, const glm::vec3& dir) {
+    if (shell.cube()) return true;
+    bool forced = false;
+    const glm::vec4 st = shell.texCoord(origin, dir, &forced);
+    return !forced && st.x >= 0.0f && st.x <= 1.0f && st.y >= 0.0f && st.y <= 1.0f;
+}
+}  // namespace
+
 // ---- b and c ------------------------------------------------------------------------------
 
 DirectImage traceDirectImage(const LensScene& scene, size_t lensIndex, const LensLayers& layers,
@@ -171,7 +182,9 @@ DirectImage traceDirectImage(const LensScene& scene, size_t lensIndex, const Len
                         }
                         if (hit) sum[size_t(l)] += glm::vec4(glm::clamp(color, 0.0f, 1.0f), 1.0f);
                         glm::vec3 p;
-                        if (!layerPoint(layers.shells[size_t(l)], r.origin, r.dir, hit, hitPoint, p)) {
+                        const Shell& shell = layers.shells[size_t(l)];
+                        if (!layerPoint(shell, r.origin, r.dir, hit, hitPoint, p) ||
+                            !onTexture(shell, r.origin, r.dir)) {
                             forced[size_t(l)] = 1;
                             continue;
                         }

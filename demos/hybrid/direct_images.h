@@ -24,7 +24,8 @@
 //          where it meets the layer's shell when it hits nothing of the layer) to the
 //          nearest such point of the lens images' records, mapped by directConfidence;
 //          the pixel's mean; 0 where a ray meets a quad only by 000 §4.2's forced
-//          intersection (it says nothing about the rectangle);
+//          intersection or outside its rectangle (it says nothing about the texture there:
+//          the sampler would clamp it onto the edge texels);
 //   A      the layer's shell itself seen from the camera: a screen grid whose vertices
 //          carry the shell coordinate of their camera ray, drawn with the layer's sampler
 //          on the same 3×3-subsampled device, taps read by the instrumented pass.
