@@ -739,7 +739,7 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
                     demos::labelledGrid({{mid.ref.image, "ray traced"},
                                          {composite(mid.frames["multi_layer"], mid.ref), label(mid, "multi_layer", "(a) with prevention")},
                                          {composite(mid.frames["without_prevention"], mid.ref), label(mid, "without_prevention", "(b) without prevention")},
-                                         {composite(mid.frames["with_direct_images"], mid.ref), label(mid, "with_direct_images", "(c) prevention + direct images")}},
+                                         {composite(mid.frames["with_direct_images"], mid.ref), label(mid, "with_direct_images", "(c) + direct images")}},
                                         4));
     ray::writeImage(out / "figure10_tau.png",
                     demos::labelledGrid({{mid.ref.image, "ray traced (" + demos::num(table["uniform"]["frame_s"].get<double>(), 2) + " s)"},
