@@ -152,6 +152,7 @@ LayerImages layerImages(const LensScene& scene, size_t lens, const LensLayers& l
         for (auto& im : terms) im = ray::Image(W, H, 4);
     for (auto& c : out.confidence) c = ray::Image(W, H, 1);
     out.coverage = ray::Image(W, H, 1);
+    if (options.collectPoints) out.points.resize(size_t(nl));
     ray::RenderOptions ro;
     ro.width = W;
     ro.height = H;
@@ -170,6 +171,7 @@ LayerImages layerImages(const LensScene& scene, size_t lens, const LensLayers& l
         int64_t records = 0, occluded = 0, hits = 0;
         size_t s = 0;
         std::vector<glm::vec3> dirs[2];
+        std::vector<std::vector<glm::vec3>> points(options.collectPoints ? size_t(nl) : 0);
         while (s < row.samples.size()) {
             const int x = row.samples[s].x;
             int reached = 0, valid[2] = {0, 0};
@@ -193,6 +195,19 @@ LayerImages layerImages(const LensScene& scene, size_t lens, const LensLayers& l
                         acc += glm::vec4(clamp01(hit.color.r), clamp01(hit.color.g),
                                          clamp01(hit.color.b), 1.0f);
                     }
+                    if (options.collectPoints) {
+                        const ray::Ray& exit = r.path[term].exitRay;
+                        for (int l = 0; l < nl; ++l) {
+                            bool hit = false;
+                            glm::vec3 hp(0.0f), p;
+                            for (uint32_t h = 0; h < r.hitCount[term] && !hit; ++h) {
+                                const ray::LensHit& lh = row.hits[r.firstHit[term] + h];
+                                if (lh.layer == l && std::isfinite(lh.t)) hit = true, hp = lh.p;
+                            }
+                            if (layerPoint(layers.shells[size_t(l)], exit.origin, exit.dir, hit, hp, p))
+                                points[size_t(l)].push_back(p);
+                        }
+                    }
                 }
             }
             for (int l = 0; l < nl; ++l)
@@ -207,6 +222,8 @@ LayerImages layerImages(const LensScene& scene, size_t lens, const LensLayers& l
             out.coverage.at(x, y, 0) = float(reached) * inv;
         }
         std::lock_guard lock(mutex);
+        for (size_t l = 0; l < points.size(); ++l)
+            out.points[l].insert(out.points[l].end(), points[l].begin(), points[l].end());
         out.records += records;
         out.occludedRecords += occluded;
         out.hits += hits;
@@ -247,6 +264,7 @@ struct Block {
     pem::RenderingMatrix m;
     Eigen::VectorXd confidence;
     std::array<Eigen::VectorXd, 4> b;
+    bool direct = false;  // a direct image's rows (000 §4.3)
 };
 
 }  // namespace
@@ -265,12 +283,27 @@ SampleSolution inferSample(HybridRenderer& renderer, int view,
     for (size_t i = 0; i < lensCount; ++i) blocks[i].resize(size_t(renderer.layers(i).layers()));
     const float keepTau = renderer.tessellation().tau;
     renderer.tessellation().tau = S.tau;
+    std::vector<std::vector<RecordPoints>> records;  // [lens][layer], over every view
     for (size_t vi = 0; vi < views.size(); ++vi) {
         const ray::Camera& cam = views[vi];
         auto t0 = Clock::now();
         std::vector<LayerImages> images(lensCount);
-        for (size_t i = 0; i < lensCount; ++i)
-            images[i] = layerImages(scene, i, renderer.layers(i), cam, S, options);
+        RecordOptions ro = options;
+        ro.collectPoints = options.directImages;
+        for (size_t i = 0; i < lensCount; ++i) {
+            images[i] = layerImages(scene, i, renderer.layers(i), cam, S, ro);
+            if (options.directImages) {
+                if (records.empty()) records.resize(lensCount);
+                const LensLayers& L = renderer.layers(i);
+                if (records[i].empty())
+                    for (int l = 0; l < L.layers(); ++l)
+                        records[i].emplace_back(directConfidenceScale(
+                            L.shells[size_t(l)], L.emSize, options.direct.confidenceTexels));
+                for (int l = 0; l < L.layers(); ++l)
+                    for (const glm::vec3& p : images[i].points[size_t(l)]) records[i][size_t(l)].add(p);
+                images[i].points.clear();
+            }
+        }
         sol.recordsS += since(t0);
         t0 = Clock::now();
         renderer.prepare(cam);
@@ -299,6 +332,38 @@ SampleSolution inferSample(HybridRenderer& renderer, int view,
     }
     renderer.tessellation().tau = keepTau;
 
+    // ---- 000 §4.3: direct images of the environment, without the lens object ------------
+    if (options.directImages) {
+        auto t1 = Clock::now();
+        for (size_t i = 0; i < lensCount; ++i) {
+            const LensLayers& L = renderer.layers(i);
+            for (const ray::Camera& cam :
+                 directCameras(scene.objects()[i], options.direct.source, views.at(0))) {
+                const DirectImage d = traceDirectImage(scene, i, L, cam, S, records.at(i), options.direct);
+                ++sol.directImages;
+                for (int l = 0; l < L.layers(); ++l) {
+                    const pem::RenderingMatrix full = pem::buildMatrixByInstrumentedPass(
+                        renderer.device(), renderer.memory(),
+                        directIsolating(renderer.device(), cam, L.shells[size_t(l)], L.layout(l),
+                                        renderer.subsample()));
+                    Block blk;
+                    blk.m = confidentRows(full, d.confidence[size_t(l)], blk.confidence);
+                    if (blk.m.rowPixel.empty()) continue;
+                    blk.direct = true;
+                    const ray::Image& b = d.b[size_t(l)];
+                    for (int c = 0; c < 4; ++c) {
+                        blk.b[size_t(c)].resize(int64_t(blk.m.rowPixel.size()));
+                        for (size_t r = 0; r < blk.m.rowPixel.size(); ++r)
+                            blk.b[size_t(c)][int64_t(r)] =
+                                b.pixels[size_t(blk.m.rowPixel[r]) * 4 + size_t(c)];
+                    }
+                    blocks[i][size_t(l)].push_back(std::move(blk));
+                }
+            }
+        }
+        sol.directS = since(t1);
+    }
+
     // ---- solve every layer's four channels (in parallel: independent systems) -----------
     auto t0 = Clock::now();
     struct Job {
@@ -311,6 +376,14 @@ SampleSolution inferSample(HybridRenderer& renderer, int view,
             LayerMap& map = (sol.maps[i].resize(size_t(renderer.layers(i).layers())), sol.maps[i][size_t(l)]);
             map.layout = renderer.layers(i).layout(l);
             map.texels.assign(size_t(map.layout.count()), Rgba8{0, 0, 0, 0});
+            const LensLayers& L = renderer.layers(i);
+            if (L.shares(l)) {
+                // 000 §4.3: the shared layer's equations join its owner's system.
+                auto& owner = blocks.at(L.sharedLens).at(size_t(L.sharedOwnerLayer));
+                for (Block& b : blocks[i][size_t(l)]) owner.push_back(std::move(b));
+                blocks[i][size_t(l)].clear();
+                continue;
+            }
             jobs.push_back({i, l});
         }
     tbb::parallel_for(size_t(0), jobs.size(), [&](size_t j) {
@@ -321,6 +394,7 @@ SampleSolution inferSample(HybridRenderer& renderer, int view,
         for (const Block& b : bl) {
             wm.push_back({&b.m, b.confidence});
             map.rows += b.m.A.rows();
+            if (b.direct) map.directRows += b.m.A.rows();
         }
         const pem::InferenceSystem system(wm, S.inference);
         // Unconstrained texels of the finest level: no row reaches them.
@@ -350,6 +424,11 @@ SampleSolution inferSample(HybridRenderer& renderer, int view,
         }
         map.residual = residual;
     });
+    for (size_t i = 0; i < lensCount; ++i) {
+        const LensLayers& L = renderer.layers(i);
+        for (int l = 0; l < L.layers(); ++l)
+            if (L.shares(l)) sol.maps[i][size_t(l)] = sol.maps[L.sharedLens][size_t(L.sharedOwnerLayer)];
+    }
     sol.solveS = since(t0);
     return sol;
 }
@@ -358,10 +437,32 @@ SampleMaps uploadSample(HybridRenderer& renderer, const SampleSolution& solution
     SampleMaps s;
     s.view = solution.view;
     s.maps.resize(solution.maps.size());
-    for (size_t i = 0; i < solution.maps.size(); ++i)
+    for (size_t i = 0; i < solution.maps.size(); ++i) {
+        const LensLayers& L = renderer.layers(i);
         for (size_t l = 0; l < solution.maps[i].size(); ++l)
-            s.maps[i].push_back(renderer.uploadMap(i, int(l), solution.maps[i][l].texels));
+            s.maps[i].push_back(L.shares(int(l)) && L.sharedLens < i
+                                    ? s.maps[L.sharedLens].at(size_t(L.sharedOwnerLayer))
+                                    : renderer.uploadMap(i, int(l), solution.maps[i][l].texels));
+    }
     return s;
+}
+
+void shareDistantLayers(std::vector<LensLayers>& layers) {
+    if (layers.size() < 2) return;
+    const LensLayers& owner = layers[0];
+    const int ownerLayer = owner.layers() - 1;
+    if (ownerLayer < 0 || !owner.shells[size_t(ownerLayer)].cube())
+        throw Error("hybrid: shared distant layers need a cube shell outermost");
+    for (size_t i = 1; i < layers.size(); ++i) {
+        LensLayers& L = layers[i];
+        const int l = L.layers() - 1;
+        if (l < 0 || L.emSize != owner.emSize)
+            throw Error("hybrid: shared distant layers need layers of one EM size");
+        L.shells[size_t(l)] = owner.shells[size_t(ownerLayer)];
+        L.sharedLayer = l;
+        L.sharedLens = 0;
+        L.sharedOwnerLayer = ownerLayer;
+    }
 }
 
 }  // namespace rg::hybrid

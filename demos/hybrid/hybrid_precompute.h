@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "direct_images.h"
 #include "hybrid_renderer.h"
 #include "inference.h"
 #include "layer_clustering.h"
@@ -72,9 +73,17 @@ struct LayerImages {
     std::array<ray::Image, 2> confidence;
     ray::Image coverage;                         // rays reaching the object / rays
     int64_t records = 0, occludedRecords = 0, hits = 0;
+    // With RecordOptions::collectPoints: per layer, the point each valid exit ray stands
+    // for there (its first hit in the layer, else where it meets the shell; direct_images.h).
+    std::vector<std::vector<glm::vec3>> points;
 };
 struct RecordOptions {
     bool incomingContinuation = true, outgoingContinuation = true;
+    // 000 §4.3: direct images of the environment stacked with the lens object images
+    // (direct_images.h); their confidence needs the records' points.
+    bool directImages = false;
+    DirectImageOptions direct{};
+    bool collectPoints = false;
 };
 LayerImages layerImages(const LensScene& scene, size_t lens, const LensLayers& layers,
                         const ray::Camera& camera, const PrecomputeSettings& settings,
@@ -86,6 +95,7 @@ struct LayerMap {
     std::vector<Rgba8> texels;
     double residual = 0;         // relative, confidence-weighted, mean over channels
     int64_t rows = 0, unconstrained = 0;  // texels no row reaches (finest level)
+    int64_t directRows = 0;      // rows of the direct images (confidence > 0)
 };
 
 struct SampleSolution {
@@ -94,16 +104,27 @@ struct SampleSolution {
     std::vector<LayerImages> images;               // [lens], at the sample's own camera
     double recordsS = 0, matrixS = 0, solveS = 0;
     int views = 0;                                 // viewpoints stacked per layer
+    int directImages = 0;                          // direct images stacked (all objects)
+    double directS = 0;                            // their tracing and matrices
 };
 
 // Infers every layer of every lens object at viewpoint sample `view` (camera views[0]),
 // stacking the equations of every camera in `views` (000 §4.3 "Simultaneous Inference
-// Over Multiple Viewpoints"; one camera: none). `renderer` carries the layers and is
-// re-prepared at each camera with τ = settings.tau.
+// Over Multiple Viewpoints"; one camera: none), and with options.directImages the direct
+// images of each object's environment (direct_images.h), their confidence from the
+// records of every stacked view. `renderer` carries the layers and is re-prepared at each
+// camera with τ = settings.tau.
 SampleSolution inferSample(HybridRenderer& renderer, int view,
                            const std::vector<ray::Camera>& views,
                            const PrecomputeSettings& settings, const RecordOptions& options);
 
 SampleMaps uploadSample(HybridRenderer& renderer, const SampleSolution& solution);
+
+// 000 §4.3's shared distant layers: the outermost layer of every lens object after the
+// first takes the first object's outermost shell (its origin and radius) and, at
+// inference, joins that layer's stacked system — one map x over both objects' rows,
+// uploaded once (uploadSample hands the same texture to both). Refused unless the shells
+// are cube shells of one size.
+void shareDistantLayers(std::vector<LensLayers>& layers);
 
 }  // namespace rg::hybrid

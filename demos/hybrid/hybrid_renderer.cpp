@@ -34,7 +34,8 @@ tex::SamplerState HybridRenderer::layerSampler() { return pem::PemRenderer::cube
 uint64_t HybridRenderer::sampleBytes(const std::vector<LensLayers>& layers) {
     uint64_t bytes = 0;
     for (const LensLayers& L : layers)
-        for (int l = 0; l < L.layers(); ++l) bytes += uint64_t(L.layout(l).count()) * 4;
+        for (int l = 0; l < L.layers(); ++l)
+            if (!L.shares(l)) bytes += uint64_t(L.layout(l).count()) * 4;  // a shared map once
     return bytes;
 }
 

@@ -59,6 +59,15 @@ struct LensLayers {
     std::vector<Shell> shells;    // per layer, nearest first
     int emSize = 64;              // cube face edge; a quad's 2D texture has twice the edge
                                   // (2/3 of a cube's texels: the memory the impostor saves)
+    // 000 §4.3: "To conserve texture memory, it is beneficial to share more distant EM
+    // layers between local lens objects ... add more equations to the linear system (1)
+    // corresponding to multiple lens objects and simultaneously solving for a single EM x."
+    // When set, layer `sharedLayer` (the outermost) uses the shell and the map of
+    // (sharedLens, sharedOwnerLayer): one map, inferred over both objects' rows, resident once.
+    int sharedLayer = -1;
+    size_t sharedLens = 0;
+    int sharedOwnerLayer = -1;
+    bool shares(int layer) const { return layer == sharedLayer && sharedOwnerLayer >= 0; }
     pem::TexelLayout layout(int layer) const {
         const bool cube = shells.at(size_t(layer)).cube();
         return {cube ? emSize : 2 * emSize, cube ? 6 : 1};

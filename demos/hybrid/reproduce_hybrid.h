@@ -24,6 +24,9 @@ struct HybridSettings {
     int neighbourViews = 3;        // disocclusion prevention: views stacked per sample,
     float neighbourSpanDegrees = 8.0f;  // spread evenly over this azimuth span around it
     float aboveHeight = 2.0f;      // Figure 8b: this much above the circle
+    // 000 §4.3's direct images (the with_direct_images and direct_images_only variants):
+    // Auto follows the paper's advice (viewpoint for glass, centre for a mirror).
+    DirectSource directSource = DirectSource::Auto;
     int tableFrames = 3;           // timed repetitions of each §6 table row (median)
     bool countTests = true;        // the §6 table's triangle tests (counting twins)
     std::vector<ShellKind> teapotShells = {ShellKind::Quad, ShellKind::Cylinder,
