@@ -12,24 +12,26 @@
 
 namespace rg::impostors {
 
-// The unit of the object's refractor height map (RGBA32F 2D: normal, height; point sampled).
-constexpr int kUnitHeight = 4;
+// The units of the object's and the mover's refractor height maps (RGBA32F 2D: normal,
+// height; point sampled).
+constexpr int kUnitHeight = 4, kUnitMoverHeight = 5;
 
 struct HeightGlassConstants {
     GlassConstants k;
-    HeightFrame self;  // the object's height map, in its refractor frame (k.self.toLocal)
+    HeightFrame self;   // the object's height map, in its refractor frame (k.self.toLocal)
+    HeightFrame mover;  // the mover's, in its refractor frame (k.mover.toLocal)
 };
 
 // GlassFP with the height-map exit: units 0 the environment impostor, 4 the height map; with
-// kMover, 2 and 3 the mover's impostor and refractor distance map (the outside search of §4.1
-// stays a distance-map search: the mover's own shading there is GlassFP's). Glass only: a
-// mirror has no exit and is drawn with GlassFP. Diagnostics as GlassFP's (target 3's searches
-// count 4 where the exit reflects totally).
+// kMover, 2, 3 and 5 the mover's impostor, refractor distance map (a mirror mover's shading
+// is shadeOwn's) and refractor height map, searched from the static object's rays
+// (throughMoverHeight). Glass only: a mirror has no exit and is drawn with GlassFP.
+// Diagnostics as GlassFP's (target 3's searches count 4 where the exit reflects totally).
 template <bool kMover, bool kDiagnostics>
 struct GlassHeightFP {
     static constexpr int kVaryings = 3;
     static constexpr uint32_t kTargets = kDiagnostics ? 0b1111 : 0b1;
-    static constexpr uint32_t kUnits = kMover ? 0b11101 : 0b10001;
+    static constexpr uint32_t kUnits = kMover ? 0b111101 : 0b10001;
     static constexpr bool kWritesDepth = false;
     HeightGlassConstants h;
     template <class Q>
@@ -55,10 +57,13 @@ struct GlassHeightFP {
         Shaded<F> s = shadeOwnHeight(k.self, h.self, k.iterations, P, V3(nrm.x, nrm.y, nrm.z), V, live, cube(kUnitEnv),
                                      height);
         if constexpr (kMover) {
-            throughMover(k.mover, k.iterations, P, s.reflDir, s.reflD, live, s.reflColour, s.searches, s.moverFlags, 1.0f,
-                         cube(kUnitMoverEnv), cube(kUnitMoverRefractor));
-            throughMover(k.mover, k.iterations, s.exitOrigin, s.exitDir, s.exitD, live, s.exitColour, s.searches,
-                         s.moverFlags, 2.0f, cube(kUnitMoverEnv), cube(kUnitMoverRefractor));
+            auto moverHeight = [&q](const F& u, const F& v, const M& m) {
+                return q.sampleLevel(kUnitMoverHeight, V4(u, v, F(0.0f), F(0.0f)), F(0.0f), m);
+            };
+            throughMoverHeight(k.mover, h.mover, k.iterations, P, s.reflDir, s.reflD, live, s.reflColour, s.searches,
+                               s.moverFlags, 1.0f, cube(kUnitMoverEnv), cube(kUnitMoverRefractor), moverHeight);
+            throughMoverHeight(k.mover, h.mover, k.iterations, s.exitOrigin, s.exitDir, s.exitD, live, s.exitColour,
+                               s.searches, s.moverFlags, 2.0f, cube(kUnitMoverEnv), cube(kUnitMoverRefractor), moverHeight);
             s.colour = combine(k.self, s);
         }
         const F w = k.writeDistance ? length3(view) : F(1.0f);

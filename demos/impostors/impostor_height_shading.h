@@ -102,4 +102,31 @@ Shaded<F> shadeOwnHeight(const ObjectFrame& o, const HeightFrame& hf, int iterat
     return out;
 }
 
+// throughMover (impostor_shading.h) with the mover's refractor height map: "In the algorithm
+// described in 5.2, the refractor distance map can be replaced by the refractor height map.
+// Search can be executed from an outer point and the calculation of multiple refractions is
+// possible as well." The entry search from the ray's origin (the billboard turned to face it)
+// replaces §4.1's outside search and its ε test (the bisection says itself whether it found
+// a crossing); where it meets the mover nearer than `envD`, the mover's own shading there —
+// a mirror's reflection (shadeOwn), or glass with its height-map exit (shadeOwnHeight) —
+// replaces `colour`.
+template <class F, class M, class FetchEnv, class FetchRefr, class FetchHeight>
+void throughMoverHeight(const ObjectFrame& m, const HeightFrame& hm, int iterations, const Vec3L<F>& origin,
+                        const Vec3L<F>& dir, const F& envD, const M& live, Vec3L<F>& colour, F& searches, F& flags,
+                        float flag, FetchEnv&& fetchMoverEnv, FetchRefr&& fetchMoverRefr, FetchHeight&& fetchMoverHeight) {
+    const Vec3L<F> c = splat3<F>(m.centre);
+    const Vec3L<F> yl = mul3(m.toLocal, origin - c), Rl = mul3(m.toLocal, dir);
+    const HeightHit<F, M> h = heightSearch(hm, yl, Rl, /*exit=*/false, live, fetchMoverHeight);
+    searches = select(live & (h.segmentCase > F(0.0f)), searches + F(1.0f), searches);
+    const M use = h.found & (h.d < envD);
+    if (!anyLane(use)) return;
+    const Vec3L<F> P = c + mulT3(m.toLocal, h.point);
+    const Vec3L<F> N = mulT3(m.toLocal, normalize3(h.normal));
+    const Shaded<F> s = m.mirror ? shadeOwn(m, iterations, P, N, dir, use, fetchMoverEnv, fetchMoverRefr)
+                                 : shadeOwnHeight(m, hm, iterations, P, N, dir, use, fetchMoverEnv, fetchMoverHeight);
+    colour = select3(use, s.colour, colour);
+    searches = select(use, searches + s.searches, searches);
+    flags = select(use, flags + F(flag), flags);
+}
+
 }  // namespace rg::impostors

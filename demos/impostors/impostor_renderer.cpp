@@ -677,9 +677,12 @@ void ImpostorRenderer::drawGlass(const View& v, const ImpostorSettings& s, int i
         // §6: the exit through the object's refractor height map.
         const Refractor& r = refractors_[size_t(g.refractor)];
         device_.setTexture(kUnitHeight, r.height, point);
+        const Refractor* rm = searchMover ? &refractors_[size_t(glass_[size_t(moverGlass_)].refractor)] : nullptr;
+        if (rm) device_.setTexture(kUnitMoverHeight, rm->height, point);
         auto drawH = [&](auto fp) {
             fp.h.k = k;
             fp.h.self = r.heightFrame;
+            if (rm) fp.h.mover = rm->heightFrame;
             drawHeightGlass(device_, vp, fp, verts, idx);
         };
         if (searchMover) {
