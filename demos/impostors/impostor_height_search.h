@@ -121,8 +121,7 @@ Bisection<F, M> bisect(const HeightFrame& hf, const F (&o)[3], const F (&r)[3], 
     bs.b = b0;
     Vec4L<F> ta, tb;
     const M inB = read(b0, live, tb);
-    const M inA = read(a0, live, ta);
-    (void)inA;
+    read(a0, live, ta);  // its texel only: the normal where a never moves
     M bWanted = wantInside ? inB : andNot(live, inB);
     for (int i = 0; i < hf.steps; ++i) {
         const F m = F(0.5f) * (bs.a + bs.b);
