@@ -8,11 +8,11 @@ namespace rg::impostors {
 
 namespace {
 
-enum ParamIndex { kMode, kDepth, kIterations, kEnvSize, kMover };
+enum ParamIndex { kMode, kDepth, kIterations, kEnvSize, kMover, kExit };
 const int kEnvSizes[4] = {64, 128, 256, 512};
 
 std::vector<viewer::Param> impostorParams() {
-    std::vector<viewer::Param> p(5);
+    std::vector<viewer::Param> p(6);
     p[kMode] = {"mode", "mode",
                 "§8: static (maps built once), classical (every map rebuilt every frame), separated (§5.2: only the "
                 "mover's), refractor-maps-only (§4.2, mode A)",
@@ -25,6 +25,10 @@ std::vector<viewer::Param> impostorParams() {
                    {"64", "128", "256", "512"}};
     p[kMover] = {"mover", "moving piece", "its place along its path (the white d-pawn: d2 → d4)", viewer::Param::Kind::Float,
                  0, 0, 1, {}};
+    p[kExit] = {"exit", "refracted ray's exit",
+                "§3: the refractor distance map from the piece's centre; §6: the refractor height map over its plane of "
+                "symmetry, on a billboard",
+                viewer::Param::Kind::Enum, 0, 0, 1, {"distance-map", "height-map"}};
     return p;
 }
 
@@ -71,7 +75,8 @@ std::vector<std::string> ImpostorDemo::passDescriptions() const {
             "impostors (§5.1): board and sky, then DEPTH passes of the surrounding objects through their own "
             "impostors, six 90° faces each",
             "the mover's impostor (§5.2, separated mode): the static scene through the static impostors",
-            "frame: board and sky, then every glass object: refraction through its refractor map, both rays "
+            "frame: board and sky, then every glass object: refraction through its refractor distance map (or, with "
+            "the height-map exit, its refractor height map on a billboard, §6), both rays "
             "searched in its impostor (and the mover's refractor map from outside), Fresnel"};
 }
 
@@ -85,6 +90,7 @@ ImpostorSettings ImpostorDemo::settings() const {
     s.envSize = kEnvSizes[std::clamp(int(params_[kEnvSize].value), 0, 3)];
     s.refractorSize = 256;
     s.moverU = float(std::clamp(params_[kMover].value, 0.0, 1.0));
+    s.exit = Exit(std::clamp(int(params_[kExit].value), 0, 1));
     return s;
 }
 
@@ -97,13 +103,20 @@ viewer::FrameNotes ImpostorDemo::render(raster::Device& device, const ray::Camer
     if (capture_) {
         using K = viewer::TargetImage::Kind;
         char state[160];
-        std::snprintf(state, sizeof state, "geforce8800, %s, impostors %d² RGBA16F, DEPTH %d, %d iterations",
-                      modeName(s.mode), s.envSize, s.depth, s.iterations);
+        std::snprintf(state, sizeof state, "geforce8800, %s, impostors %d² RGBA16F, DEPTH %d, %d iterations, exit %s",
+                      modeName(s.mode), s.envSize, s.depth, s.iterations, exitName(s.exit));
         std::vector<viewer::TargetImage> maps;
         for (int m = 0; m < renderer_->refractorMaps(); ++m)
             maps.push_back(crossImage(renderer_->refractorImage(m),
                                       "refractor map: " + scene_.scene.meshes[renderer_->refractorMesh(m)].name, K::Color8));
         passes_.push_back({"refractor distance maps", state, maps});
+        if (s.exit == Exit::HeightMap) {
+            std::vector<viewer::TargetImage> heights;
+            for (int m = 0; m < renderer_->refractorMaps(); ++m)
+                heights.push_back(crossImage(renderer_->heightMapImage(m),
+                                             "height map: " + scene_.scene.meshes[renderer_->refractorMesh(m)].name, K::Color8));
+            passes_.push_back({"refractor height maps (§6)", state, heights});
+        }
         passes_.push_back({"light maps", state, {crossImage(renderer_->lightMapImage(), "visibility (key, fill)", K::Color8)}});
         if (s.mode != Mode::RefractorMapsOnly) {
             std::vector<viewer::TargetImage> env;

@@ -9,6 +9,8 @@
 
 #include "core/error.h"
 #include "core/profile.h"
+#include "impostor_height_maps.h"
+#include "impostor_height_programs.h"
 #include "raycore/texture.h"
 #include "texunit/cube_mapping.h"
 
@@ -112,6 +114,14 @@ Mode modeByName(const std::string& name) {
     throw Error("impostors: unknown mode '" + name + "' (static, classical, separated, refractor-maps-only)");
 }
 
+const char* exitName(Exit e) { return e == Exit::HeightMap ? "height-map" : "distance-map"; }
+
+Exit exitByName(const std::string& name) {
+    for (Exit e : {Exit::DistanceMap, Exit::HeightMap})
+        if (name == exitName(e)) return e;
+    throw Error("impostors: unknown exit '" + name + "' (distance-map, height-map)");
+}
+
 void validate(const ImpostorSettings& s) {
     auto bad = [](const std::string& what) { throw Error("impostors: " + what); };
     if (s.depth < 1 || s.depth > kMaxDepth)
@@ -134,6 +144,12 @@ void validate(const ImpostorSettings& s) {
         if (v < 1 || v > p.maxTextureSize)
             bad("light or shadow map " + std::to_string(v) + "² outside 1–" + std::to_string(p.maxTextureSize) +
                 "² (geforce8800's largest 2D texture)");
+    if (s.heightMapSize < 8 || s.heightMapSize > p.maxTextureSize)
+        bad("refractor height map " + std::to_string(s.heightMapSize) + "² outside 8–" + std::to_string(p.maxTextureSize) +
+            "² (geforce8800's largest 2D texture)");
+    if (s.heightSteps < 1 || s.heightSteps > kMaxIterations)
+        bad("height-map binary-search steps " + std::to_string(s.heightSteps) + " outside 1–" +
+            std::to_string(kMaxIterations));
     if (!(s.moverU >= 0.0f && s.moverU <= 1.0f)) bad("mover position " + std::to_string(s.moverU) + " outside [0, 1]");
     if (!(s.epsilon >= 0.0f) || !std::isfinite(s.epsilon)) bad("validity ε " + std::to_string(s.epsilon) + " is negative");
 }
@@ -422,6 +438,33 @@ void ImpostorRenderer::buildRefractors(int size) {
     }
 }
 
+void ImpostorRenderer::buildHeightMaps(int size, int steps) {
+    // 002 §6: per mesh (the six piece kinds and the sphere, like the refractor distance maps)
+    // the orthographic picture over its plane of symmetry, taken by raycore's Embree tracer and
+    // uploaded as a texture the glass programs read (RGBA32F: normal, height; point sampled).
+    for (Refractor& r : refractors_) {
+        if (r.heightSize == size && r.height && r.heightFrame.steps == steps) continue;
+        ray::Mesh m;
+        m.name = "refractor";
+        for (const ImpostorVertex& v : r.model.vertices) {
+            m.positions.push_back(v.position);
+            m.normals.push_back(v.normal);
+            m.uvs.push_back(v.uv);
+        }
+        m.indices = r.model.indices;
+        const HeightMap hm = buildHeightMap(m, r.centre, size, steps);
+        tex::TextureDesc d;
+        d.format = tex::TexelFormat::RGBA32F;
+        d.width = d.height = size;
+        r.height = memory_.create(d);
+        memory_.upload(*r.height, 0, 0,
+                       std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(hm.texels.data()),
+                                                hm.texels.size() * sizeof(glm::vec4)));
+        r.heightFrame = hm.frame;
+        r.heightSize = size;
+    }
+}
+
 void ImpostorRenderer::buildLightMaps(const ImpostorSettings& s, bool staticMap, bool moverMap, bool moverInStatic) {
     const ray::Scene& sc = scene_.scene;
     const int nLights = int(std::min<size_t>(sc.lights.size(), DiffuseFP::kMaxLights));
@@ -630,6 +673,27 @@ void ImpostorRenderer::drawGlass(const View& v, const ImpostorSettings& s, int i
         device_.setTexture(kUnitMoverRefractor, refractors_[size_t(glass_[size_t(moverGlass_)].refractor)].cube, point);
     }
     lastConstants_ = k;
+    if (s.exit == Exit::HeightMap && !k.self.mirror) {
+        // §6: the exit through the object's refractor height map.
+        const Refractor& r = refractors_[size_t(g.refractor)];
+        device_.setTexture(kUnitHeight, r.height, point);
+        const Refractor* rm = searchMover ? &refractors_[size_t(glass_[size_t(moverGlass_)].refractor)] : nullptr;
+        if (rm) device_.setTexture(kUnitMoverHeight, rm->height, point);
+        auto drawH = [&](auto fp) {
+            fp.h.k = k;
+            fp.h.self = r.heightFrame;
+            if (rm) fp.h.mover = rm->heightFrame;
+            drawHeightGlass(device_, vp, fp, verts, idx);
+        };
+        if (searchMover) {
+            if (diagnostics) drawH(GlassHeightFP<true, true>{});
+            else drawH(GlassHeightFP<true, false>{});
+        } else {
+            if (diagnostics) drawH(GlassHeightFP<false, true>{});
+            else drawH(GlassHeightFP<false, false>{});
+        }
+        return;
+    }
     auto draw = [&](auto fp) {
         fp.k = k;
         drawTriangles(device_, vp, fp, verts, idx);
@@ -757,12 +821,16 @@ ImpostorFrame ImpostorRenderer::render(const ray::Camera& camera, const Impostor
     for (size_t i = 0; i < glass_.size(); ++i) frames_[i] = frameOf(glass_[i], s);
     if (refractors_.empty() || refractors_[0].size != s.refractorSize)
         pass("refractor distance maps", [&] { buildRefractors(s.refractorSize); });
+    if (s.exit == Exit::HeightMap && s.mode != Mode::RefractorMapsOnly &&
+        (refractors_[0].heightSize != s.heightMapSize || refractors_[0].heightFrame.steps != s.heightSteps))
+        pass("refractor height maps", [&] { buildHeightMaps(s.heightMapSize, s.heightSteps); });
 
     // ---- the maps this mode needs this frame --------------------------------------------------
     const std::string key = std::to_string(s.envSize) + "/" + std::to_string(s.depth) + "/" +
                             std::to_string(s.iterations) + "/" + std::to_string(s.epsilon) + "/" +
                             std::to_string(s.refractorSize) + "/" + std::to_string(s.lightMapSize) + "/" +
-                            std::to_string(s.shadowMapSize);
+                            std::to_string(s.shadowMapSize) + "/" + exitName(s.exit) + "/" +
+                            std::to_string(s.heightMapSize) + "/" + std::to_string(s.heightSteps);
     const bool separated = s.mode == Mode::Separated && hasMover;
     const Content want = separated ? Content::StaticOnly : Content::Full;
     const std::string lightKey = key + (separated ? "/sep" : "/full");
@@ -1020,6 +1088,22 @@ ray::Image ImpostorRenderer::refractorImage(int m) const {
         const glm::vec4 v = const_cast<tex::Texture&>(*r.cube).renderDataF(0, f)[size_t(y) * size_t(r.size) + size_t(x)];
         return v.w > 0.0f ? 0.5f + 0.5f * glm::vec3(v) : glm::vec3(0.0f);
     });
+}
+
+ray::Image ImpostorRenderer::heightMapImage(int m) const {
+    const Refractor& r = refractors_.at(size_t(m));
+    if (!r.height) throw Error("impostors: no refractor height map built yet (render a frame with the height-map exit)");
+    const int n = r.heightSize;
+    ray::Image img(2 * n, n, 3);
+    const glm::vec4* t = r.height->dataF(0, 0);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const glm::vec4 v = t[size_t(y) * size_t(n) + size_t(x)];
+            const bool empty = !(v.w > 0.0f);
+            img.setRgb(x, y, empty ? glm::vec3(0.0f) : 0.5f + 0.5f * glm::vec3(v));
+            img.setRgb(n + x, y, glm::vec3(empty ? 0.0f : v.w / r.heightFrame.hMax));
+        }
+    return img;
 }
 
 ray::Image ImpostorRenderer::lightMapImage() const {

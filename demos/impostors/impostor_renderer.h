@@ -26,6 +26,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "core/path.h"
+#include "impostor_height_search.h"
 #include "impostor_programs.h"
 #include "impostor_scene.h"
 #include "rasterizer/programmable_device.h"
@@ -37,6 +38,13 @@ namespace rg::impostors {
 enum class Mode { Static, Classical, Separated, RefractorMapsOnly };
 const char* modeName(Mode m);
 Mode modeByName(const std::string& name);  // rg::Error listing the names otherwise
+
+// Where a glass object's refracted ray finds its exit: the refractor distance map from the
+// object's centre (002 §3, Figure 3) or the refractor height map over its plane of symmetry
+// on a billboard (§6). Mirrors have no exit; mode A (§4.2) searches distance maps only.
+enum class Exit { DistanceMap, HeightMap };
+const char* exitName(Exit e);
+Exit exitByName(const std::string& name);  // rg::Error listing the names otherwise
 
 struct ImpostorSettings {
     int width = 600, height = 600;  // §8
@@ -50,6 +58,9 @@ struct ImpostorSettings {
     bool diagnostics = false;       // targets 1–3 of the glass programs (readDiagnostics)
     int lightMapSize = 512;         // §7's light maps over the board
     int shadowMapSize = 1024;
+    Exit exit = Exit::DistanceMap;  // the refracted ray's exit (§3 or §6)
+    int heightMapSize = 512;        // §8: "refractor height maps were made in a 512 × 512 resolution"
+    int heightSteps = 8;            // binary-search steps per segment (§6 gives none; [D] 8)
 };
 constexpr int kMaxDepth = 8;
 constexpr int kMaxIterations = 32;
@@ -100,6 +111,11 @@ class ImpostorRenderer {
     // distance / maxDistance as grey), a refractor map's normals ½ + ½n.
     ray::Image impostorImage(int glassIndex, bool distance, float maxDistance = 8.0f) const;
     ray::Image refractorImage(int map) const;
+    // Figure 6: a refractor height map (after a height-map frame), normals ½ + ½n on the left,
+    // the height / hMax as grey on the right; empty texels black.
+    ray::Image heightMapImage(int map) const;
+    const HeightFrame& heightFrame(int map) const { return refractors_.at(size_t(map)).heightFrame; }
+    const tex::Texture& heightTexture(int map) const { return *refractors_.at(size_t(map)).height; }
     ray::Image lightMapImage() const;
     int refractorMaps() const { return int(refractors_.size()); }
     // A refractor distance map (after a frame), the map of glass object i, the map's mesh.
@@ -134,6 +150,9 @@ class ImpostorRenderer {
         Batch model;
         std::shared_ptr<tex::Texture> cube;
         int size = 0;
+        std::shared_ptr<tex::Texture> height;  // §6's refractor height map (RGBA32F 2D)
+        HeightFrame heightFrame;
+        int heightSize = 0;
     };
     struct Glass {
         uint32_t object = 0;
@@ -155,6 +174,7 @@ class ImpostorRenderer {
     void placeMover(float u);
     void ensureStatic(const ImpostorSettings& s);
     void buildRefractors(int size);
+    void buildHeightMaps(int size, int steps);
     void buildLightMaps(const ImpostorSettings& s, bool staticMap, bool moverMap, bool moverInStatic);
     void buildImpostors(const ImpostorSettings& s, Content content, ImpostorFrame& f);
     void buildMoverImpostor(const ImpostorSettings& s, ImpostorFrame& f);

@@ -17,6 +17,9 @@ struct ImpostorReproduceSettings {
     int imageSize = 300;              // §8: 600 × 600
     int envSize = 64, envSizeLarge = 128;  // §8: 256² and 512²
     int refractorSize = 128;
+    int heightMapSize = 256;          // §8: refractor height maps 512 × 512
+    int heightSteps = 8;              // §6's binary-search steps per segment
+    std::vector<float> heightViews = {1.0f, 0.65f, 0.5f};  // §6's comparison: camera distance, × Figure 10's
     int depth = 2;                    // §5.1's DEPTH
     int iterations = 8;               // secant steps after p and l
     int timedFrames = 2;              // per configuration, after a warm-up frame
