@@ -447,17 +447,26 @@ SampleMaps uploadSample(HybridRenderer& renderer, const SampleSolution& solution
     return s;
 }
 
-void shareDistantLayers(std::vector<LensLayers>& layers) {
-    if (layers.size() < 2) return;
+std::string whyDistantLayersCannotBeShared(const std::vector<LensLayers>& layers) {
+    if (layers.size() < 2) return {};
     const LensLayers& owner = layers[0];
     const int ownerLayer = owner.layers() - 1;
     if (ownerLayer < 0 || !owner.shells[size_t(ownerLayer)].cube())
-        throw Error("hybrid: shared distant layers need a cube shell outermost");
+        return "hybrid: shared distant layers need a cube shell outermost";
+    for (size_t i = 1; i < layers.size(); ++i)
+        if (layers[i].layers() < 1 || layers[i].emSize != owner.emSize)
+            return "hybrid: shared distant layers need layers of one EM size";
+    return {};
+}
+
+void shareDistantLayers(std::vector<LensLayers>& layers) {
+    if (layers.size() < 2) return;
+    if (const std::string why = whyDistantLayersCannotBeShared(layers); !why.empty()) throw Error(why);
+    const LensLayers& owner = layers[0];
+    const int ownerLayer = owner.layers() - 1;
     for (size_t i = 1; i < layers.size(); ++i) {
         LensLayers& L = layers[i];
         const int l = L.layers() - 1;
-        if (l < 0 || L.emSize != owner.emSize)
-            throw Error("hybrid: shared distant layers need layers of one EM size");
         L.shells[size_t(l)] = owner.shells[size_t(ownerLayer)];
         L.sharedLayer = l;
         L.sharedLens = 0;

@@ -126,5 +126,8 @@ SampleMaps uploadSample(HybridRenderer& renderer, const SampleSolution& solution
 // uploaded once (uploadSample hands the same texture to both). Refused unless the shells
 // are cube shells of one size.
 void shareDistantLayers(std::vector<LensLayers>& layers);
+// Why `layers` cannot share their outermost layer (shareDistantLayers would refuse them:
+// for example one glass layer, which is a quad, not a cube shell); empty when they can.
+std::string whyDistantLayersCannotBeShared(const std::vector<LensLayers>& layers);
 
 }  // namespace rg::hybrid
