@@ -230,6 +230,24 @@ uint64_t VqTextures::textureBytes() const {
     return b;
 }
 
+// The basis passes leave the last basis weight in the destination alpha: a full-window
+// untextured quad writing alpha one (alpha only) makes the frame read as opaque. Both VQ
+// routes end with it.
+static void setAlphaToOne(raster::Device& dev, int w, int h) {
+    raster::PipelineState a = additiveState();
+    a.blend = 0;
+    a.colorWriteMask = raster::kWriteA;
+    dev.setState(a);
+    dev.textureUnits().setStage(0, tex::StageState{});
+    std::vector<raster::Vertex> q(6);
+    const glm::vec2 c[6] = {{0, 0}, {float(w), 0}, {float(w), float(h)}, {0, 0}, {float(w), float(h)}, {0, float(h)}};
+    for (int k = 0; k < 6; ++k) {
+        q[size_t(k)].position = glm::vec4(c[k], 0.0f, 1.0f);
+        q[size_t(k)].diffuse = {255, 255, 255, 255};
+    }
+    dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Pretransformed, q);
+}
+
 VqStats renderVq(raster::Device& dev, const VqTextures& tx, const VqLightField& vq, const ray::Camera& camera) {
     const LightSlab& s = vq.slab;
     const BlockShape& sh = vq.shape;
@@ -327,22 +345,7 @@ VqStats renderVq(raster::Device& dev, const VqTextures& tx, const VqLightField& 
                 }
         }
     tu.setColorTable(0, nullptr);
-    if (sh.uvHalved()) {
-        // The basis passes leave the last basis weight in the destination alpha: set it to
-        // one (a full-window untextured quad, alpha only) so the frame reads as opaque.
-        raster::PipelineState a = additiveState();
-        a.blend = 0;
-        a.colorWriteMask = raster::kWriteA;
-        dev.setState(a);
-        tu.setStage(0, tex::StageState{});
-        std::vector<raster::Vertex> q(6);
-        const glm::vec2 c[6] = {{0, 0}, {float(w), 0}, {float(w), float(h)}, {0, 0}, {float(w), float(h)}, {0, float(h)}};
-        for (int k = 0; k < 6; ++k) {
-            q[size_t(k)].position = glm::vec4(c[k], 0.0f, 1.0f);
-            q[size_t(k)].diffuse = {255, 255, 255, 255};
-        }
-        dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Pretransformed, q);
-    }
+    if (sh.uvHalved()) setAlphaToOne(dev, w, h);  // only the (u, v) basis passes wrote alpha
     return st;
 }
 
@@ -485,20 +488,7 @@ VqStats renderVq4D(raster::Device& dev, const VqTextures4D& tx, const VqLightFie
         ++st.colorPasses;
     }
     tu.setColorTable(0, nullptr);
-    // The last basis weight stays in the destination alpha: one (as renderVq) so the frame
-    // reads as opaque.
-    raster::PipelineState a = additiveState();
-    a.blend = 0;
-    a.colorWriteMask = raster::kWriteA;
-    dev.setState(a);
-    tu.setStage(0, tex::StageState{});
-    std::vector<raster::Vertex> q(6);
-    const glm::vec2 c[6] = {{0, 0}, {float(w), 0}, {float(w), float(h)}, {0, 0}, {float(w), float(h)}, {0, float(h)}};
-    for (int k = 0; k < 6; ++k) {
-        q[size_t(k)].position = glm::vec4(c[k], 0.0f, 1.0f);
-        q[size_t(k)].diffuse = {255, 255, 255, 255};
-    }
-    dev.draw(raster::Primitive::TriangleList, raster::VertexSpace::Pretransformed, q);
+    setAlphaToOne(dev, w, h);
     return st;
 }
 
