@@ -93,12 +93,13 @@ struct PhotonFP {
         // refractor map" — the frame's own tracing (impostor_shading.h).
         const GlassPaths<F, M> g = tracePaths(self, iterations, P, V3(nrm.x, nrm.y, nrm.z), V, live, refr);
         // The photon hit: the exit ray meets the board plane y = boardY (other pieces
-        // neglected), within the board.
-        const F t = (F(board.boardY) - g.exitOrigin.y) / g.exitDir.y;
+        // neglected), within the board. A photon leaving through a base that stands on the
+        // board (its exit at or below the plane) lands where it leaves: t = max(t, 0).
+        const F t = max((F(board.boardY) - g.exitOrigin.y) / g.exitDir.y, F(0.0f));
         const V3 X = g.exitOrigin + g.exitDir * t;
         const F u = (X.x * F(board.uv[0]) + X.z * F(board.uv[1])) + F(board.uv[2]);
         const F v = (X.x * F(board.uv[3]) + X.z * F(board.uv[4])) + F(board.uv[5]);
-        const M hit = (g.exitDir.y < F(0.0f)) & (t > F(0.0f)) & (X.x >= F(board.lo[0])) & (X.x <= F(board.hi[0])) &
+        const M hit = (g.exitDir.y < F(0.0f)) & (X.x >= F(board.lo[0])) & (X.x <= F(board.hi[0])) &
                       (X.z >= F(board.lo[1])) & (X.z <= F(board.hi[1]));
         const F w = (F(1.0f) - g.fresnel) * area;
         const V3 power = V3(g.transmit.x * F(intensity[0]), g.transmit.y * F(intensity[1]),

@@ -18,6 +18,7 @@
 #include "impostor_renderer.h"
 #include "raycore/builtin_scenes.h"
 #include "raycore/shapes.h"
+#include "raycore/tracer_caustics.h"
 
 namespace rg::impostors {
 namespace {
@@ -258,6 +259,39 @@ TEST(ImpostorCaustics, SpreadFollowsTheExactTraceAtTwoBoardDistances) {
         EXPECT_NEAR(encircled(ma.red, st.lightMapSize, rad), encircled(ea, st.lightMapSize, rad), kEncircledTolerance)
             << "within " << rad << " texels";
     EXPECT_NEAR(ma.energy / exactLens(near).power, 1.0, 0.03);
+}
+
+// The photon-traced reference (raycore/tracer_caustics.h) through the same ball lens: its
+// energy and spread are the exact lens's too (its meshes are the tessellated sphere's).
+TEST(ImpostorCaustics, PhotonTracedReferenceMatchesTheExactLens) {
+    const ImpostorScene scene = ballLens(kFocus);
+    const ImpostorSettings st = causticSettings();
+    ImpostorRenderer r(scene, 2);
+    r.render(scene.camera, st);  // the board's texture space, as the reproduction takes it
+    ray::CausticTraceOptions o;
+    o.lightMapSize = st.lightMapSize;
+    o.photonsPerAxis = 128;
+    o.sigmaTexels = st.causticSigma;
+    const GridConstants& g = r.board();
+    o.board.y = g.boardY;
+    for (int k = 0; k < 6; ++k) o.board.uv[k] = g.uv[k];
+    o.board.lo = {g.boardLo[0], g.boardLo[1]};
+    o.board.hi = {g.boardHi[0], g.boardHi[1]};
+    o.objects = scene.glass;
+    const ray::CausticTraceResult ref = ray::traceCausticLightMap(scene.scene, o);
+    std::vector<double> red;
+    double energy = 0;
+    const double area = (kBoardWidth / st.lightMapSize) * (kBoardWidth / st.lightMapSize);
+    for (int y = 0; y < st.lightMapSize; ++y)
+        for (int x = 0; x < st.lightMapSize; ++x) {
+            red.push_back(ref.lightMap.rgb(x, y).x);
+            energy += red.back() * area;
+        }
+    EXPECT_NEAR(energy / exactLens(kFocus).power, 1.0, 0.03) << "reference energy " << energy;
+    const std::vector<double> exactMap = exactLightMap(kFocus, st.lightMapSize, st.causticSigma);
+    for (double rad : {2.0, 4.0, 8.0, 16.0})
+        EXPECT_NEAR(encircled(red, st.lightMapSize, rad), encircled(exactMap, st.lightMapSize, rad), kEncircledTolerance)
+            << "within " << rad << " texels";
 }
 
 TEST(ImpostorCaustics, SameBytesOnBothPathsAndAnyThreadCount) {
