@@ -1426,7 +1426,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
           "ray's origin, §6's last paragraph) instead of §4.1's distance-map search and its ε; mode A uses distance maps "
           "only.\n"
        << "- **Shadows** (§7): one 1024² Depth32F shadow map per light, resolved into two 512² light maps over the "
-          "board (static pieces, the mover), 2×2 PCF. Caustics (§7, below) go into two caustic light maps of their own "
+          "board (static pieces, the mover), 2×2 PCF. Caustics (§7, their section above) go into two caustic light maps of their own "
           "(RGBA32F): shadows multiply the direct light, caustics add. The frames compared with Whitted tracing keep "
           "caustics off (it has none); they are compared with a photon-traced reference instead.\n"
        << "- **Claims' margins.** Glass PSNR orderings by " << num(kMarginDb, 1) << " dB and \"as close\" within it: "
