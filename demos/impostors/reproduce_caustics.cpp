@@ -170,6 +170,20 @@ CausticsComparison compareCaustics(const ImpostorScene& scene, const ImpostorSet
     double within = 0;
     for (double d : offOurs) within += d <= margin ? 1.0 : 0.0;
     const double mse = ray::meanSquaredError(out.ours, out.reference);
+    // Our photons that reached the board: each splat's weights sum (alpha) to about
+    // 2πσ²·(1 − e^(−R²/2σ²)) (the discrete sum of the kernel), so Σ alpha over both maps over
+    // that is their count (an estimate to the kernel's sampling, under 1 %).
+    double alphaSum = 0;
+    for (const tex::Texture* t : {r.causticTexture(false), r.causticTexture(true)})
+        if (t)
+            for (int i = 0; i < n * n; ++i) alphaSum += double(t->dataF(0, 0)[i].w);
+    const double sg = double(s.causticSigma), rr = 3.0 * sg;
+    const double ourHits = alphaSum / (2.0 * 3.14159265358979323846 * sg * sg * (1.0 - std::exp(-rr * rr / (2.0 * sg * sg))));
+    int64_t ourPhotons = 0;  // photon-map texels drawn: per light and refracting object
+    for (uint32_t obj : scene.glass)
+        if (placed.materials[placed.objects[obj].material].type == ray::MaterialType::Glass)
+            ourPhotons += int64_t(std::min<size_t>(placed.lights.size(), DiffuseFP::kMaxLights)) * s.photonMapSize *
+                          s.photonMapSize;
     j["settings"] = {{"photon_map_size", s.photonMapSize},
                      {"photons_per_piece_and_light", s.photonMapSize * s.photonMapSize},
                      {"splat_sigma_texels", s.causticSigma},
@@ -182,6 +196,8 @@ CausticsComparison compareCaustics(const ImpostorScene& scene, const ImpostorSet
     j["reference_ms"] = refMs;
     j["reference_photons"] = ref.photons;
     j["reference_board_hits"] = ref.boardHits;
+    j["ours_photons"] = ourPhotons;
+    j["ours_board_hits_estimate"] = ourHits;
     j["reference_photons_lost"] = {{"met_their_object", ref.objectHits},
                                    {"no_exit_found", ref.lostInside},
                                    {"inside_after_max_interfaces", ref.lostInterfaces},

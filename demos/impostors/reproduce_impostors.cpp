@@ -1261,8 +1261,19 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
            << lost["leaving_upward_or_level"].get<int64_t>() << " left upward or level, "
            << lost["inside_after_max_interfaces"].get<int64_t>() << " were still inside after 8 interfaces, "
            << lost["no_exit_found"].get<int64_t>() << " found no exit, " << lost["off_the_board"].get<int64_t>()
-           << " landed off the board. Ours sends each photon out after at most two total reflections (the frame's "
-              "exit rule), and its 32² photons per piece and light give a noisier map than the reference's.\n\n";
+           << " landed off the board: " << num(100.0 * double(caustics["reference_board_hits"].get<int64_t>()) /
+                                                     double(caustics["reference_photons"].get<int64_t>()), 1)
+           << " % of the photons shot, against about "
+           << num(100.0 * caustics["ours_board_hits_estimate"].get<double>() / double(caustics["ours_photons"].get<int64_t>()), 1)
+           << " % of ours (their splats' weights summed): a ratio of "
+           << num((caustics["ours_board_hits_estimate"].get<double>() / double(caustics["ours_photons"].get<int64_t>())) /
+                      (double(caustics["reference_board_hits"].get<int64_t>()) /
+                       double(caustics["reference_photons"].get<int64_t>())),
+                  2)
+           << " in photons landed beside " << num(caustics["scores"]["energy_ratio"].get<double>(), 2)
+           << " in energy. Ours sends each photon out after at most two total "
+              "reflections (the frame's exit rule), and its 32² photons per piece and light give a noisier map than "
+              "the reference's.\n\n";
         rep.figure("caustics.png", "§7: the shadows' light map (visibility of the two lights, red and green), our caustic "
                                    "light map, the photon-traced reference's, and their difference.");
     }
