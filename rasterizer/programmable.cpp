@@ -6,6 +6,7 @@
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstdlib>
 #include <cstring>
@@ -44,6 +45,7 @@ void ProgramCounters::add(const ProgramCounters& o) {
     fragmentsDiscarded += o.fragmentsDiscarded;
     fragmentsWritten += o.fragmentsWritten;
     textureFetches += o.textureFetches;
+    vertexTextureFetches += o.vertexTextureFetches;
     maxFetchesPerFragment = std::max(maxFetchesPerFragment, o.maxFetchesPerFragment);
 }
 
@@ -74,6 +76,7 @@ std::string ProgramCounters::toString() const {
     s += mean;
     s += '\n';
     line("texture_fetches_per_fragment_max", maxFetchesPerFragment);
+    line("vertex_texture_fetches", vertexTextureFetches);
     return s;
 }
 
@@ -126,6 +129,39 @@ float FragmentContext::sampleCompare(int u, const glm::vec4& c, float ref) {
     const detail::BoundUnit& b = unit(u);
     const int32_t lambda = tex::programLambdaLod(b.sampler, 0.0f);
     return tex::programFetchCompare(*b.texture, b.sampler, c, ref, lambda, setup_->path, fetches_);
+}
+
+// ---- vertex context: vertex texture fetch ------------------------------------------------
+
+const detail::BoundUnit& VertexContext::unit(int u) const {
+    if (u < 0 || u >= kMaxVertexUnits || !((setup_->declaredUnits >> u) & 1u))
+        throw InvalidState("vertex program reads texture unit " + std::to_string(u) +
+                           ", which it does not declare in kVertexUnits");
+    return (*setup_->units)[size_t(u)];  // declared units are checked bound at draw time
+}
+
+glm::vec4 VertexContext::texelFetch(int u, glm::ivec2 texel, int level, int face) {
+    const detail::BoundUnit& b = unit(u);
+    const tex::Texture& t = *b.texture;
+    ++fetches_;
+    // D3D10 Load: out of range reads zero (texel, level or face).
+    if (level < 0 || level >= t.levels() || face < 0 || face >= t.faces()) return glm::vec4(0.0f);
+    const std::array<int, 4>& size = t.levelSize(level);
+    const int h = t.dims() == 1 ? 1 : size[1];
+    if (texel.x < 0 || texel.x >= size[0] || texel.y < 0 || texel.y >= h) return glm::vec4(0.0f);
+    const int y = t.dims() == 1 ? 0 : texel.y;
+    if (t.isFloat()) return t.texelFloat(level, face, texel.x, y, 0, 0);
+    const Rgba8 v = t.texel8(level, face, texel.x, y, 0, 0);
+    return glm::vec4(v.r, v.g, v.b, v.a) / 255.0f;
+}
+
+glm::vec4 VertexContext::sampleLevel(int u, const glm::vec4& c, float lod) {
+    const detail::BoundUnit& b = unit(u);
+    const int32_t lambda = tex::programLambdaLod(b.sampler, lod);
+    uint32_t n = 0;
+    const glm::vec4 r = tex::programFetch(*b.texture, b.sampler, c, lambda, setup_->path, n);
+    fetches_ += n;
+    return r;
 }
 
 // ---- quad context -------------------------------------------------------------------------
@@ -622,8 +658,27 @@ void ProgrammableDevice::clearDepth(float value) {
 
 detail::ProgramDraw& ProgrammableDevice::beginDraw(int varyings, uint32_t targets, uint32_t units,
                                                    ProgramPrimitive primitive, size_t vertexCount,
-                                                   std::span<const uint32_t> indices) {
+                                                   std::span<const uint32_t> indices,
+                                                   uint32_t vertexUnits) {
     Impl& m = *impl_;
+    // Vertex texture fetch: the units the vertex program declares are checked as the
+    // fragment program's are (bound, not a target of this draw), and within the G80's 16.
+    for (int u = 0; u < 32; ++u) {
+        if (!((vertexUnits >> u) & 1u)) continue;
+        if (u >= kMaxVertexUnits || !m.units[size_t(u)].texture)
+            throw InvalidState("vertex program reads texture unit " + std::to_string(u) +
+                               (u >= kMaxVertexUnits ? ", past the profile's " + std::to_string(kMaxVertexUnits) +
+                                                           " vertex texture units"
+                                                     : std::string(", which has no texture bound")));
+        const tex::Texture* t = m.units[size_t(u)].texture;
+        for (size_t k = 0; k < m.colors.size(); ++k)
+            if (m.colors[k].texture.get() == t)
+                throw InvalidState("vertex texture unit " + std::to_string(u) + " samples render target " +
+                                   std::to_string(k) + " while the draw writes it");
+        if (m.depth.texture.get() == t && (m.state.depthWrite || m.state.depthTest))
+            throw InvalidState("vertex texture unit " + std::to_string(u) +
+                               " samples the depth target while the draw uses it");
+    }
     m.requireTargets();
     const uint32_t attached = (1u << m.colors.size()) - 1u;
     for (int k = 0; k < 32; ++k)
@@ -685,6 +740,18 @@ detail::ProgramDraw& ProgrammableDevice::beginDraw(int varyings, uint32_t target
     d.ctx.declaredTargets = targets;
     d.ctx.path = m.options.path;
     return d;
+}
+
+VertexContext::Setup ProgrammableDevice::vertexFetchSetup(uint32_t vertexUnits) const {
+    VertexContext::Setup s;
+    s.units = &impl_->units;
+    s.declaredUnits = vertexUnits;
+    s.path = impl_->options.path;
+    return s;
+}
+
+void ProgrammableDevice::addVertexFetches(uint64_t n) {
+    std::atomic_ref<uint64_t>(impl_->counters.vertexTextureFetches).fetch_add(n, std::memory_order_relaxed);
 }
 
 std::vector<detail::ProgramVertex>& ProgrammableDevice::vertexScratch(size_t n) {

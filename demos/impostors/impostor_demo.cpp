@@ -8,11 +8,11 @@ namespace rg::impostors {
 
 namespace {
 
-enum ParamIndex { kMode, kDepth, kIterations, kEnvSize, kMover, kExit };
+enum ParamIndex { kMode, kDepth, kIterations, kEnvSize, kMover, kExit, kCaustics };
 const int kEnvSizes[4] = {64, 128, 256, 512};
 
 std::vector<viewer::Param> impostorParams() {
-    std::vector<viewer::Param> p(6);
+    std::vector<viewer::Param> p(7);
     p[kMode] = {"mode", "mode",
                 "§8: static (maps built once), classical (every map rebuilt every frame), separated (§5.2: only the "
                 "mover's), refractor-maps-only (§4.2, mode A)",
@@ -29,6 +29,10 @@ std::vector<viewer::Param> impostorParams() {
                 "§3: the refractor distance map from the piece's centre; §6: the refractor height map over its plane of "
                 "symmetry, on a billboard",
                 viewer::Param::Kind::Enum, 0, 0, 1, {"distance-map", "height-map"}};
+    p[kCaustics] = {"caustics", "caustics",
+                    "§7: photon maps of every piece from each light, splatted into the board's caustic light maps "
+                    "(vertex texture fetch); off matches the Whitted reference, which has none",
+                    viewer::Param::Kind::Enum, 0, 0, 1, {"off", "on"}};
     return p;
 }
 
@@ -72,6 +76,8 @@ std::vector<viewer::ViewpointSample> ImpostorDemo::viewpointSamples() const {
 std::vector<std::string> ImpostorDemo::passDescriptions() const {
     return {"refractor distance maps: each mesh from its centre, normal + distance (RGBA16F cube, once)",
             "light maps (§7): shadow maps of the two lights, resolved into the board's texture space",
+            "caustics (§7, when on): per piece and light a photon map from the light (refraction, the refractor-map "
+            "exit, the board plane), splatted by vertex texture fetch into RGBA32F caustic light maps",
             "impostors (§5.1): board and sky, then DEPTH passes of the surrounding objects through their own "
             "impostors, six 90° faces each",
             "the mover's impostor (§5.2, separated mode): the static scene through the static impostors",
@@ -91,6 +97,7 @@ ImpostorSettings ImpostorDemo::settings() const {
     s.refractorSize = 256;
     s.moverU = float(std::clamp(params_[kMover].value, 0.0, 1.0));
     s.exit = Exit(std::clamp(int(params_[kExit].value), 0, 1));
+    s.caustics = int(params_[kCaustics].value) == 1;
     return s;
 }
 
@@ -118,6 +125,11 @@ viewer::FrameNotes ImpostorDemo::render(raster::Device& device, const ray::Camer
             passes_.push_back({"refractor height maps (§6)", state, heights});
         }
         passes_.push_back({"light maps", state, {crossImage(renderer_->lightMapImage(), "visibility (key, fill)", K::Color8)}});
+        if (s.caustics) {
+            std::vector<viewer::TargetImage> photons;
+            photons.push_back(crossImage(renderer_->causticImage(), "caustic irradiance (static + mover)", K::Float));
+            passes_.push_back({"caustics (§7)", state, photons});
+        }
         if (s.mode != Mode::RefractorMapsOnly) {
             std::vector<viewer::TargetImage> env;
             const int mover = renderer_->moverIndex();

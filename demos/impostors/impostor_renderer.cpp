@@ -144,6 +144,17 @@ void validate(const ImpostorSettings& s) {
         if (v < 1 || v > p.maxTextureSize)
             bad("light or shadow map " + std::to_string(v) + "² outside 1–" + std::to_string(p.maxTextureSize) +
                 "² (geforce8800's largest 2D texture)");
+    if (s.caustics) {
+        // A photon map is a render target the photon pass's viewport covers whole.
+        const int most = std::min(p.maxTextureSize, p.maxViewport);
+        if (s.photonMapSize < 1 || s.photonMapSize > most)
+            bad("photon map " + std::to_string(s.photonMapSize) + "² outside 1–" + std::to_string(most) +
+                "² (geforce8800's largest 2D render target and viewport)");
+        if (!(s.causticSigma >= 0.25f && s.causticSigma <= 16.0f))
+            bad("caustic splat σ " + std::to_string(s.causticSigma) +
+                " light-map texels outside 0.25–16 (below, a splat misses texel centres; above, one photon covers "
+                "a 97-texel square)");
+    }
     if (s.heightMapSize < 8 || s.heightMapSize > p.maxTextureSize)
         bad("refractor height map " + std::to_string(s.heightMapSize) + "² outside 8–" + std::to_string(p.maxTextureSize) +
             "² (geforce8800's largest 2D texture)");
@@ -277,12 +288,13 @@ ImpostorRenderer::ImpostorRenderer(const ImpostorScene& scene, int threads, Path
     }
 }
 
-ImpostorRenderer::~ImpostorRenderer() = default;
+ImpostorRenderer::~ImpostorRenderer() = default;  // caustics_: a shared_ptr, complete where it is made
 
 void ImpostorRenderer::invalidate() {
     content_ = Content::None;
     impostorKey_.clear();
     lightKey_.clear();
+    causticKey_.clear();
     moverU_ = -1.0f;
 }
 
@@ -635,6 +647,7 @@ void ImpostorRenderer::drawSurroundings(const View& v, bool writeDistance, bool 
                            diffuseTextures_[i] == white_ ? pointClamp() : linearClamp(true));
         device_.setTexture(kUnitLightMap, lightStatic_ ? lightStatic_ : white_, linearClamp(false));
         device_.setTexture(kUnitLightMapMover, moverShadow && lightMover_ ? lightMover_ : white_, linearClamp(false));
+        if (fp.lightMapped && drawCausticBoard(vp, fp, i, moverShadow)) continue;
         drawTriangles(device_, vp, fp, std::span<const ImpostorVertex>(diffuse_[i].vertices),
                       std::span<const uint32_t>(diffuse_[i].indices));
     }
@@ -830,7 +843,10 @@ ImpostorFrame ImpostorRenderer::render(const ray::Camera& camera, const Impostor
                             std::to_string(s.iterations) + "/" + std::to_string(s.epsilon) + "/" +
                             std::to_string(s.refractorSize) + "/" + std::to_string(s.lightMapSize) + "/" +
                             std::to_string(s.shadowMapSize) + "/" + exitName(s.exit) + "/" +
-                            std::to_string(s.heightMapSize) + "/" + std::to_string(s.heightSteps);
+                            std::to_string(s.heightMapSize) + "/" + std::to_string(s.heightSteps) +
+                            (s.caustics ? "/caustics/" + std::to_string(s.photonMapSize) + "/" +
+                                              std::to_string(s.causticSigma)
+                                        : std::string());
     const bool separated = s.mode == Mode::Separated && hasMover;
     const Content want = separated ? Content::StaticOnly : Content::Full;
     const std::string lightKey = key + (separated ? "/sep" : "/full");
@@ -840,6 +856,17 @@ ImpostorFrame ImpostorRenderer::render(const ray::Camera& camera, const Impostor
         lightKey_ = lightKey;
     } else if (separated && moved) {
         pass("light map: the mover", [&] { buildLightMaps(s, false, true, false); });
+    }
+    // §7: caustics go into light maps of their own, built when the shadows' are (the static
+    // pieces' once, the mover's per frame).
+    causticsOn_ = s.caustics;
+    if (s.caustics) {
+        if (lightKey != causticKey_ || (moved && !separated)) {
+            pass("caustics: all pieces", [&] { buildCaustics(s, true, true, !separated); });
+            causticKey_ = lightKey;
+        } else if (separated && moved) {
+            pass("caustics: the mover", [&] { buildCaustics(s, false, true, false); });
+        }
     }
     if (s.mode != Mode::RefractorMapsOnly) {
         const bool rebuild = content_ != want || impostorKey_ != key || s.mode == Mode::Classical ||

@@ -61,6 +61,13 @@ struct ImpostorSettings {
     Exit exit = Exit::DistanceMap;  // the refracted ray's exit (§3 or §6)
     int heightMapSize = 512;        // §8: "refractor height maps were made in a 512 × 512 resolution"
     int heightSteps = 8;            // binary-search steps per segment (§6 gives none; [D] 8)
+    // §7's caustics (impostor_caustics.h): photon maps per glass piece and light, splatted
+    // into two caustic light maps (static pieces once, the mover per frame) that the board
+    // adds to its lighting. Off by default: raycore's Whitted reference has no caustics, so
+    // the figures compared with it leave them out.
+    bool caustics = false;
+    int photonMapSize = 32;         // photons per piece and light: N × N (the paper gives none; [D] 32²)
+    float causticSigma = 1.5f;      // the splats' Gaussian σ, light-map texels (radius 3σ)
 };
 constexpr int kMaxDepth = 8;
 constexpr int kMaxIterations = 32;
@@ -117,6 +124,18 @@ class ImpostorRenderer {
     const HeightFrame& heightFrame(int map) const { return refractors_.at(size_t(map)).heightFrame; }
     const tex::Texture& heightTexture(int map) const { return *refractors_.at(size_t(map)).height; }
     ray::Image lightMapImage() const;
+    // §7's caustics (after a frame with settings.caustics): the caustic light maps (RGBA32F,
+    // rgb the caustic irradiance on the board, a the splat weights' sum), the static pieces'
+    // or the mover's; the last photon map drawn (target 0: u, v, hit; target 1: power).
+    // nullptr before any caustics were built.
+    const tex::Texture* causticTexture(bool mover) const;
+    const tex::Texture* photonHitTexture() const;
+    const tex::Texture* photonPowerTexture() const;
+    // Both caustic light maps summed, rgb (black where none were built).
+    ray::Image causticImage() const;
+    // The board's plane, extent and texture space as the light maps use them (after a
+    // frame; GridConstants' board fields).
+    const GridConstants& board() const { return grid_; }
     int refractorMaps() const { return int(refractors_.size()); }
     // A refractor distance map (after a frame), the map of glass object i, the map's mesh.
     const tex::Texture& refractorTexture(int map) const { return *refractors_.at(size_t(map)).cube; }
@@ -176,6 +195,12 @@ class ImpostorRenderer {
     void buildRefractors(int size);
     void buildHeightMaps(int size, int steps);
     void buildLightMaps(const ImpostorSettings& s, bool staticMap, bool moverMap, bool moverInStatic);
+    // §7's caustics into the static pieces' and/or the mover's caustic light map
+    // (impostor_caustics.cpp).
+    void buildCaustics(const ImpostorSettings& s, bool staticMap, bool moverMap, bool moverInStatic);
+    // The board's top face with the caustic maps (impostor_caustics.cpp); false when
+    // caustics are off (DiffuseFP draws it).
+    bool drawCausticBoard(const WorldVP& vp, const DiffuseFP& fp, size_t diffuse, bool moverShadow);
     void buildImpostors(const ImpostorSettings& s, Content content, ImpostorFrame& f);
     void buildMoverImpostor(const ImpostorSettings& s, ImpostorFrame& f);
     void renderImpostor(const ImpostorSettings& s, int i, const std::shared_ptr<tex::Texture>& target, bool withMover,
@@ -215,6 +240,10 @@ class ImpostorRenderer {
     std::string impostorKey_, lightKey_;
     bool frameDiagnostics_ = false;
     GlassConstants lastConstants_;
+    struct Caustics;  // impostor_caustics.cpp
+    std::shared_ptr<Caustics> caustics_;  // made by the first buildCaustics
+    std::string causticKey_;
+    bool causticsOn_ = false;
 };
 
 }  // namespace rg::impostors

@@ -32,6 +32,8 @@ struct ImpostorReproduceSettings {
     std::vector<int> depthSweep = {1, 2, 3};
     int analyticRays = 4000;          // Figure 2's rays
     int outsideRays = 4000;           // Figure 4's rays
+    bool caustics = true;             // §7's caustics against the photon-traced reference
+    int causticReferencePhotons = 128;  // the reference's photons per piece and light, per axis (ours: 32)
     int threads = 0;
 };
 ImpostorReproduceSettings impostorSettingsFor(demos::Quality quality);

@@ -414,6 +414,15 @@ TEST(ViewerProgrammable, TheImpostorFrameIsHandedOverAsItIsAndTheMoverMovesLive)
     EXPECT_FLOAT_EQ(imp->settings().moverU, 0.95f);
     s.apply({Action::Kind::Param, 0, 0, 1, "mode"});
     EXPECT_EQ(imp->settings().mode, rg::impostors::Mode::Classical);
+    // §7's caustics switch on live. This scene's one object is a mirror, which refracts no
+    // photons: the board's caustic program adds zero caustic maps, and the frame keeps its bytes.
+    EXPECT_FALSE(imp->settings().caustics);
+    s.render(false);
+    const uint64_t noCaustics = s.frameHash();
+    s.apply({Action::Kind::Param, 0, 0, 1, "caustics"});
+    EXPECT_TRUE(imp->settings().caustics);
+    s.render(false);
+    EXPECT_EQ(s.frameHash(), noCaustics);
     try {
         s.apply({Action::Kind::Profile, 0, 0, 0, "geforce256"});
         FAIL() << "impostors cannot run on a GeForce 256";

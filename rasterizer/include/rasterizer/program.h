@@ -25,6 +25,20 @@
 // The declarations are checked at draw time (targets attached, units bound) so that a
 // mistake is an error naming it before any pixel is written; a program that reads a unit
 // or writes a target it did not declare is an error too (rg::InvalidState).
+//
+// A vertex program may read textures too (vertex texture fetch, as the G80 did under
+// Direct3D 10 and GL_NV_gpu_program4 / GLSL 1.30): it declares the units it reads in
+// kVertexUnits and takes a VertexContext, which offers only the reads without derivatives
+// (texelFetch / Load, textureLod / SampleLevel):
+//
+//   struct SplatVertexProgram {
+//       static constexpr int kVaryings = 1;
+//       static constexpr uint32_t kVertexUnits = 0b1;  // texture units the vertex stage reads
+//       glm::vec4 operator()(const MyVertex& v, Varyings& out, VertexContext& t) const {
+//           const glm::vec4 hit = t.texelFetch(0, v.texel);   // level 0, no filtering
+//           ...
+//       }
+//   };
 #pragma once
 
 #include <algorithm>
@@ -34,6 +48,7 @@
 #include <string>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include "core/path.h"
@@ -47,6 +62,7 @@ namespace rg::raster {
 constexpr int kMaxVaryings = 8;      // vec4 varyings (Direct3D 9 SM3 had 10, GL on G80 15)
 constexpr int kMaxColorTargets = 4;  // simultaneous render targets a program writes
 constexpr int kMaxProgramUnits = 16; // G80: 16 texture image units per fragment program
+constexpr int kMaxVertexUnits = 16;  // G80: MAX_VERTEX_TEXTURE_IMAGE_UNITS 16 (D3D10: 16 slots per stage)
 
 using Varyings = std::array<glm::vec4, kMaxVaryings>;
 
@@ -105,6 +121,7 @@ struct ProgramCounters {
     uint64_t fragmentsDiscarded = 0;
     uint64_t fragmentsWritten = 0;      // reached the targets
     uint64_t textureFetches = 0;        // texels read by fragment programs
+    uint64_t vertexTextureFetches = 0;  // texels read by vertex programs (vertex texture fetch)
     uint64_t maxFetchesPerFragment = 0;
     double meanFetchesPerFragment() const {
         return fragmentInvocations ? double(textureFetches) / double(fragmentInvocations) : 0.0;
@@ -314,5 +331,50 @@ class FragmentContext {
     float depth_ = 0.0f;
     std::array<glm::vec4, kMaxColorTargets> out_{};
 };
+
+// What a vertex program sees of the texture units (vertex texture fetch, docs/hardware.md
+// "Programmable profile: vertex texture fetch"). A vertex has no neighbours, so there are
+// no derivatives and no implicit level of detail: the G80's vertex stage offered the
+// explicit-level reads only (GLSL 1.30 texelFetch and textureLod, Direct3D 10 Load and
+// SampleLevel). The units are the ones setTexture binds for the fragment stage (GL's
+// shared texture image units); the vertex program declares which it reads in kVertexUnits.
+class VertexContext {
+  public:
+    // The texel (x, y) of `level` (and cube `face`) as stored, no sampler: no filtering,
+    // addressing, bias or LOD clamp (GLSL texelFetch, D3D10 Load). 8-bit texels read as
+    // v/255, float texels as stored, R formats as (r, 0, 0, 1), depth as (d, d, d, 1). A
+    // texel outside the level, or a level or face the texture lacks, reads (0, 0, 0, 0)
+    // (D3D10's out-of-bounds Load; GL leaves it undefined).
+    glm::vec4 texelFetch(int unit, glm::ivec2 texel, int level = 0, int face = 0);
+    // The sampler's filtered texel at `c` on the explicit level `lod` (textureLod,
+    // SampleLevel): λ = lod in 8 fraction bits with the sampler's bias and MIN_LOD/MAX_LOD
+    // clamp, then the fragment stage's level choice, addressing and filter.
+    glm::vec4 sampleLevel(int unit, const glm::vec4& c, float lod);
+
+    // ---- used by the pipeline -------------------------------------------------------------
+    struct Setup {
+        const std::array<detail::BoundUnit, kMaxProgramUnits>* units = nullptr;
+        uint32_t declaredUnits = 0;
+        Path path = Path::Fast;
+    };
+    explicit VertexContext(const Setup& s) : setup_(&s) {}
+    uint64_t fetches() const { return fetches_; }
+
+  private:
+    const detail::BoundUnit& unit(int u) const;
+    const Setup* setup_;
+    uint64_t fetches_ = 0;
+};
+
+namespace detail {
+// The texture units a vertex program declares (kVertexUnits), 0 for one that reads none.
+template <class VP>
+constexpr uint32_t vertexUnitsOf() {
+    if constexpr (requires { VP::kVertexUnits; })
+        return uint32_t(VP::kVertexUnits);
+    else
+        return 0u;
+}
+}  // namespace detail
 
 }  // namespace rg::raster

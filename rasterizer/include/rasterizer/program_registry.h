@@ -66,7 +66,7 @@ struct RegisteredProgram {
     uint32_t vertexProgramBytes = 0;    // sizeof(VP), 0 for an empty type
     uint32_t fragmentProgramBytes = 0;  // sizeof(FP), 0 for an empty type
     uint32_t vertexBytes = 0;           // sizeof(V): the stride of a draw's vertices
-    uint32_t units = 0;                 // FP::kUnits: the texture units a draw reads
+    uint32_t units = 0;                 // FP::kUnits | VP::kVertexUnits: the texture units a draw reads
     uint32_t targets = 0;               // FP::kTargets
     RecordedDrawFn draw = nullptr;
 };
@@ -174,7 +174,7 @@ const RegisteredProgram& registerProgram(std::string name) {
                         detail::kRecordedBytes<VP>,
                         detail::kRecordedBytes<FP>,
                         uint32_t(sizeof(V)),
-                        FP::kUnits,
+                        FP::kUnits | detail::vertexUnitsOf<VP>(),
                         FP::kTargets,
                         &detail::drawRecorded<VP, FP, V>};
     return detail::addProgram(std::move(p));

@@ -693,17 +693,33 @@ class ProgrammableDevice {
               std::span<const uint32_t> indices = {}) {
         static_assert(VP::kVaryings == FP::kVaryings, "vertex and fragment programs disagree on kVaryings");
         static_assert(FP::kVaryings >= 0 && FP::kVaryings <= kMaxVaryings, "too many varyings");
+        constexpr uint32_t kVertexUnits = detail::vertexUnitsOf<VP>();
+        constexpr bool kFetches = requires(const VP& p, const V& v, Varyings& o, VertexContext& t) { p(v, o, t); };
+        static_assert(kFetches == (kVertexUnits != 0),
+                      "a vertex program that takes a VertexContext declares kVertexUnits, and one that "
+                      "declares kVertexUnits takes a VertexContext");
         detail::ProgramDraw& d = beginDraw(FP::kVaryings, FP::kTargets, FP::kUnits, primitive,
-                                           vertices.size(), indices);
+                                           vertices.size(), indices, kVertexUnits);
         if (recorder_)  // after the draw's checks, before any pixel changes
             recordDraw(typeid(detail::ProgramTriple<VP, FP, V>), detail::recordedBytes(vp),
-                       detail::recordedBytes(fp), FP::kUnits, primitive,
+                       detail::recordedBytes(fp), FP::kUnits | kVertexUnits, primitive,
                        {reinterpret_cast<const uint8_t*>(vertices.data()), vertices.size_bytes()},
                        uint32_t(sizeof(V)), indices);
         std::vector<detail::ProgramVertex>& out = vertexScratch(vertices.size());
-        forEachVertexRange(vertices.size(), [&](size_t b, size_t e) {
-            for (size_t i = b; i < e; ++i) out[i].clip = vp(vertices[i], out[i].varyings);
-        });
+        if constexpr (kFetches) {
+            // Vertex texture fetch: each range counts its texels, the counts are summed
+            // (integers: the total does not depend on the split).
+            const VertexContext::Setup setup = vertexFetchSetup(kVertexUnits);
+            forEachVertexRange(vertices.size(), [&](size_t b, size_t e) {
+                VertexContext t(setup);
+                for (size_t i = b; i < e; ++i) out[i].clip = vp(vertices[i], out[i].varyings, t);
+                addVertexFetches(t.fetches());
+            });
+        } else {
+            forEachVertexRange(vertices.size(), [&](size_t b, size_t e) {
+                for (size_t i = b; i < e; ++i) out[i].clip = vp(vertices[i], out[i].varyings);
+            });
+        }
         detail::ProgramKernel<FP> kernel{&fp, &d};
         finishDraw(primitive, indices, &detail::ProgramKernel<FP>::runQuads,
                    &detail::ProgramKernel<FP>::runPixels, &kernel);
@@ -712,7 +728,9 @@ class ProgrammableDevice {
   private:
     detail::ProgramDraw& beginDraw(int varyings, uint32_t targets, uint32_t units,
                                    ProgramPrimitive primitive, size_t vertexCount,
-                                   std::span<const uint32_t> indices);
+                                   std::span<const uint32_t> indices, uint32_t vertexUnits = 0);
+    VertexContext::Setup vertexFetchSetup(uint32_t vertexUnits) const;
+    void addVertexFetches(uint64_t n);  // thread-safe
     std::vector<detail::ProgramVertex>& vertexScratch(size_t n);
     void forEachVertexRange(size_t n, const std::function<void(size_t, size_t)>& body);
     void finishDraw(ProgramPrimitive primitive, std::span<const uint32_t> indices,
