@@ -178,32 +178,13 @@ struct CausticDiffuseFP {
         using F = typename Q::Float;
         using V3 = typename Q::Vec3;
         using V4 = typename Q::Vec4;
-        const DiffuseFP& d = base;
-        const V4 pos = q.varying(0), nrm = q.varying(1);
-        const V3 p(pos.x, pos.y, pos.z);
-        const V3 e = splat3<F>(d.eye);
-        const V3 view = p - e;
-        const V3 n = facing(normalize3(V3(nrm.x, nrm.y, nrm.z)), view);
-        const V4 visStatic = q.sample(kUnitLightMap, 2), visMover = q.sample(kUnitLightMapMover, 2);
-        const V4 vis(visStatic.x * visMover.x, visStatic.y * visMover.y, F(1.0f), F(1.0f));
-        const auto top = nrm.y > F(0.5f);
-        V3 light = splat3<F>(d.ambient);
-        for (int i = 0; i < d.lights; ++i) {
-            const V3 l = normalize3(splat3<F>(d.lightPos[i]) - p);
-            F c = max(dot3(n, l), F(0.0f));
-            if (d.lightMapped) c = c * select(top, i == 0 ? vis.x : vis.y, F(1.0f));
-            light = light + splat3<F>(d.lightIntensity[i]) * c;
-        }
-        if (d.lightMapped) {
+        base.shade(q, [&q, this](const auto& top, V3& light) {
+            if (!base.lightMapped) return;
             const V4 cs = q.sample(kUnitCausticStatic, 2), cm = q.sample(kUnitCausticMover, 2);
             const F zero(0.0f);
             light = light + V3(select(top, cs.x + cm.x, zero), select(top, cs.y + cm.y, zero),
                                select(top, cs.z + cm.z, zero));
-        }
-        const V4 t = q.sample(kUnitAlbedo, 2);
-        const V3 a = V3(F(d.albedo[0]) * t.x, F(d.albedo[1]) * t.y, F(d.albedo[2]) * t.z);
-        const F w = d.writeDistance ? length3(view) : F(1.0f);
-        q.output(0, V4(a.x * light.x, a.y * light.y, a.z * light.z, w));
+        });
     }
 };
 

@@ -157,6 +157,13 @@ struct DiffuseFP {
     int32_t lightMapped = 0;  // the light map applies to faces whose normal is +y
     template <class Q>
     void operator()(Q& q) const {
+        shade(q, [](const auto&, auto&) {});
+    }
+    // The lighting, with addLight(top, light) called after the lights and before the albedo:
+    // the hook through which CausticDiffuseFP (impostor_caustics.h) adds the caustic
+    // irradiance on the board's top face, so that both programs light the board alike.
+    template <class Q, class AddLight>
+    void shade(Q& q, AddLight&& addLight) const {
         using F = typename Q::Float;
         using V3 = typename Q::Vec3;
         using V4 = typename Q::Vec4;
@@ -175,6 +182,7 @@ struct DiffuseFP {
             if (lightMapped) c = c * select(top, i == 0 ? vis.x : vis.y, F(1.0f));
             light = light + splat3<F>(lightIntensity[i]) * c;
         }
+        addLight(top, light);
         const V4 t = q.sample(kUnitAlbedo, 2);
         const V3 a = V3(F(albedo[0]) * t.x, F(albedo[1]) * t.y, F(albedo[2]) * t.z);
         const F w = writeDistance ? length3(view) : F(1.0f);

@@ -311,6 +311,32 @@ TEST(ImpostorCaustics, SameBytesOnBothPathsAndAnyThreadCount) {
         }
 }
 
+// The board's program adds the caustic irradiance to what the lights and shadows leave
+// (CausticDiffuseFP): light only comes back, so no pixel of the frame gets darker with
+// caustics on, and the focus under the ball lens, which the camera sees beside the sphere,
+// gets brighter by many times the board's direct light there.
+TEST(ImpostorCaustics, CausticsOnlyAddLightToTheFrame) {
+    const ImpostorScene scene = ballLens(kFocus);
+    ImpostorSettings st = causticSettings();
+    st.width = st.height = 64;
+    st.lightMapSize = 128;
+    ImpostorRenderer r(scene, 2);
+    st.caustics = false;
+    r.render(scene.camera, st);
+    const ray::Image off = r.frame();
+    st.caustics = true;
+    r.render(scene.camera, st);
+    const ray::Image on = r.frame();
+    ASSERT_EQ(on.pixels.size(), off.pixels.size());
+    size_t darker = 0, focused = 0;
+    for (size_t i = 0; i < on.pixels.size(); ++i) {
+        if (on.pixels[i] < off.pixels[i]) ++darker;
+        if (on.pixels[i] > 2.0f * off.pixels[i] + 0.05f) ++focused;
+    }
+    EXPECT_EQ(darker, 0u) << "caustics darkened " << darker << " channel values";
+    EXPECT_GT(focused, 0u) << "no pixel shows the focus";
+}
+
 TEST(ImpostorCaustics, BadPhotonMapSizeAndSigmaAreErrorsNamingThem) {
     ImpostorSettings st = causticSettings();
     st.photonMapSize = 100000;
