@@ -64,6 +64,21 @@ double quantile(const std::vector<double>& sorted, double q) {
 }
 }  // namespace
 
+ray::CausticTraceOptions causticTraceOptions(const ImpostorRenderer& r, const ImpostorScene& scene,
+                                             const ImpostorSettings& s, int photonsPerAxis) {
+    ray::CausticTraceOptions o;
+    o.lightMapSize = s.lightMapSize;
+    o.photonsPerAxis = photonsPerAxis;
+    o.sigmaTexels = s.causticSigma;
+    const GridConstants& g = r.board();
+    o.board.y = g.boardY;
+    for (int k = 0; k < 6; ++k) o.board.uv[k] = g.uv[k];
+    o.board.lo = {g.boardLo[0], g.boardLo[1]};
+    o.board.hi = {g.boardHi[0], g.boardHi[1]};
+    o.objects.assign(scene.glass.begin(), scene.glass.end());
+    return o;
+}
+
 CausticsComparison compareCaustics(const ImpostorScene& scene, const ImpostorSettings& base, float u,
                                    int referencePhotonsPerAxis, int threads, Path path) {
     CausticsComparison out;
@@ -101,16 +116,7 @@ CausticsComparison compareCaustics(const ImpostorScene& scene, const ImpostorSet
     }
     // ---- the photon-traced reference ---------------------------------------------------------
     const ray::Scene placed = scene.at(u);
-    ray::CausticTraceOptions o;
-    o.lightMapSize = s.lightMapSize;
-    o.photonsPerAxis = referencePhotonsPerAxis;
-    o.sigmaTexels = s.causticSigma;
-    const GridConstants& g = r.board();
-    o.board.y = g.boardY;
-    for (int k = 0; k < 6; ++k) o.board.uv[k] = g.uv[k];
-    o.board.lo = {g.boardLo[0], g.boardLo[1]};
-    o.board.hi = {g.boardHi[0], g.boardHi[1]};
-    for (uint32_t obj : scene.glass) o.objects.push_back(obj);
+    const ray::CausticTraceOptions o = causticTraceOptions(r, scene, s, referencePhotonsPerAxis);
     const auto t0 = Clock::now();
     const ray::CausticTraceResult ref = ray::traceCausticLightMap(placed, o);
     const double refMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

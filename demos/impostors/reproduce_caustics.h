@@ -9,6 +9,7 @@
 #include "core/path.h"
 #include "impostor_renderer.h"
 #include "impostor_scene.h"
+#include "raycore/tracer_caustics.h"
 
 namespace rg::impostors {
 
@@ -16,6 +17,12 @@ struct CausticsComparison {
     nlohmann::json json;      // settings, pass timings and counters, the scores
     ray::Image ours, reference, shadows;
 };
+
+// The photon-traced reference's options for what `r` draws: its board plane, texture space
+// and extent, the light map's size and the splat σ of `s`, `photonsPerAxis`² photons per
+// glass object and light, through the scene's glass objects.
+ray::CausticTraceOptions causticTraceOptions(const ImpostorRenderer& r, const ImpostorScene& scene,
+                                             const ImpostorSettings& s, int photonsPerAxis);
 
 // Renders the scene (static mode, the mover at u) with caustics on, times the caustics
 // passes (all pieces, then the mover alone in separated mode), traces the reference with

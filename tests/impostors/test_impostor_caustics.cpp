@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "impostor_renderer.h"
+#include "reproduce_caustics.h"
 #include "raycore/builtin_scenes.h"
 #include "raycore/shapes.h"
 #include "raycore/tracer_caustics.h"
@@ -268,16 +269,7 @@ TEST(ImpostorCaustics, PhotonTracedReferenceMatchesTheExactLens) {
     const ImpostorSettings st = causticSettings();
     ImpostorRenderer r(scene, 2);
     r.render(scene.camera, st);  // the board's texture space, as the reproduction takes it
-    ray::CausticTraceOptions o;
-    o.lightMapSize = st.lightMapSize;
-    o.photonsPerAxis = 128;
-    o.sigmaTexels = st.causticSigma;
-    const GridConstants& g = r.board();
-    o.board.y = g.boardY;
-    for (int k = 0; k < 6; ++k) o.board.uv[k] = g.uv[k];
-    o.board.lo = {g.boardLo[0], g.boardLo[1]};
-    o.board.hi = {g.boardHi[0], g.boardHi[1]};
-    o.objects = scene.glass;
+    const ray::CausticTraceOptions o = causticTraceOptions(r, scene, st, 128);
     const ray::CausticTraceResult ref = ray::traceCausticLightMap(scene.scene, o);
     std::vector<double> red;
     double energy = 0;
