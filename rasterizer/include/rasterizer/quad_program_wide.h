@@ -404,6 +404,25 @@ struct FourChannelFetch {
     [[RG_NOIPA, gnu::target("avx2")]] void cube(const LinearFloatCube& c, Vec4W<N>& out) const {
         linearCubeFetchAvx2<FloatW<N>::kRegs>(c, x.r, y.r, z.r, live.r, out.x.r, out.y.r, out.z.r, out.w.r);
     }
+    // The point-sampled float cube map on all N quads at once: the quad context's own face
+    // selection and loads (nearestCubeIndices, nearestLoads) over the group's lanes, which
+    // lie quad after quad in the registers' bytes, so each lane reads the texel it reads
+    // quad by quad (the same code, the same bytes), without N calls through QuadContext.
+    [[RG_NOIPA]] void nearestCube(const NearestFloat2D& n, Vec4W<N>& out) const {
+        static_assert(sizeof(x.r) == N * sizeof(__m128) && sizeof(live.r) == N * sizeof(__m128));
+        __m128 s[N], t[N], r[N], l[N], ox[N], oy[N], oz[N], ow[N];
+        __m128i idx[N];
+        std::memcpy(s, x.r, sizeof s);
+        std::memcpy(t, y.r, sizeof t);
+        std::memcpy(r, z.r, sizeof r);
+        std::memcpy(l, live.r, sizeof l);
+        nearestCubeIndices<N>(n, s, t, r, idx);
+        nearestLoads<N>(n, idx, l, ox, oy, oz, ow);
+        std::memcpy(out.x.r, ox, sizeof ox);
+        std::memcpy(out.y.r, oy, sizeof oy);
+        std::memcpy(out.z.r, oz, sizeof oz);
+        std::memcpy(out.w.r, ow, sizeof ow);
+    }
 };
 
 }  // namespace detail
@@ -491,8 +510,8 @@ class QuadGroupWideContext {
             for (int k = 0; k < kRegs; ++k) one.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(F{} + 1.0f) & live.r[k]);
             return n.depth ? Vec4(t, t, t, one) : Vec4(t, Float(0.0f), Float(0.0f), one);
         }
-        if (fast && (n.lanes4 || b.cube.valid())) {  // four channels: one texel, or four taps
-            const bool point = n.lanes4;
+        if (fast && (n.lanes4 || n.cube || b.cube.valid())) {  // four channels: one texel, or four taps
+            const bool point = n.lanes4 || n.cube;
             const Mask live = countFetches<kAllLanes>(m, point ? 1 : 4);
             FourArgs& a = FourArgs::storage();
             for (int k = 0; k < kRegs; ++k) {
@@ -502,7 +521,9 @@ class QuadGroupWideContext {
                 a.live.r[k] = live.r[k];
             }
             Vec4 r;
-            if (point)
+            if (n.cube)
+                a.nearestCube(n, r);
+            else if (point)
                 a.nearest(n, r);
             else
                 a.cube(b.cube, r);
@@ -541,7 +562,7 @@ class QuadGroupWideContext {
         allFetches_ = 0;
     }
     // Quad by quad: filtered samplers other than the bilinear float cube map, non-power-of-two
-    // WRAP, the reference path.
+    // WRAP, the reference path. (Point-sampled float cube maps go through FourArgs.)
     using SlowArgs = detail::QuadByQuadSample<Vec4, Float, Mask>;
     using FourArgs = detail::FourChannelFetch<N>;
     template <class Fn>
