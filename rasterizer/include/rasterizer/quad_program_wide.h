@@ -404,6 +404,29 @@ struct FourChannelFetch {
     [[RG_NOIPA, gnu::target("avx2")]] void cube(const LinearFloatCube& c, Vec4W<N>& out) const {
         linearCubeFetchAvx2<FloatW<N>::kRegs>(c, x.r, y.r, z.r, live.r, out.x.r, out.y.r, out.z.r, out.w.r);
     }
+    // The point-sampled float cube map on all N quads in one call: nearestCubeIndices and
+    // nearestLoads over the quads, the SSE code QuadContext::sampleLevel runs on one quad,
+    // so every lane gets the same bits (the impostors' distance maps: 40-odd fetches per
+    // fragment, which went quad by quad through the slow path before).
+    [[RG_NOIPA, gnu::target("avx2")]] void nearestCube(const NearestFloat2D& n, Vec4W<N>& out) const {
+        __m128 s[N], t[N], r[N], l[N];
+        for (int i = 0; i < N; ++i) {
+            s[i] = x.quad(i).v;
+            t[i] = y.quad(i).v;
+            r[i] = z.quad(i).v;
+            l[i] = live.quad(i).v;
+        }
+        __m128i idx[N];
+        __m128 ox[N], oy[N], oz[N], ow[N];
+        nearestCubeIndices<N>(n, s, t, r, idx);
+        nearestLoads<N>(n, idx, l, ox, oy, oz, ow);
+        for (int i = 0; i < N; ++i) {
+            out.x.setQuad(i, Float4(ox[i]));
+            out.y.setQuad(i, Float4(oy[i]));
+            out.z.setQuad(i, Float4(oz[i]));
+            out.w.setQuad(i, Float4(ow[i]));
+        }
+    }
 };
 
 }  // namespace detail
@@ -491,8 +514,8 @@ class QuadGroupWideContext {
             for (int k = 0; k < kRegs; ++k) one.r[k] = reinterpret_cast<F>(reinterpret_cast<I>(F{} + 1.0f) & live.r[k]);
             return n.depth ? Vec4(t, t, t, one) : Vec4(t, Float(0.0f), Float(0.0f), one);
         }
-        if (fast && (n.lanes4 || b.cube.valid())) {  // four channels: one texel, or four taps
-            const bool point = n.lanes4;
+        if (fast && (n.lanes4 || n.cube || b.cube.valid())) {  // four channels: one texel, or four taps
+            const bool point = n.lanes4 || n.cube;
             const Mask live = countFetches<kAllLanes>(m, point ? 1 : 4);
             FourArgs& a = FourArgs::storage();
             for (int k = 0; k < kRegs; ++k) {
@@ -502,7 +525,9 @@ class QuadGroupWideContext {
                 a.live.r[k] = live.r[k];
             }
             Vec4 r;
-            if (point)
+            if (n.cube)
+                a.nearestCube(n, r);
+            else if (point)
                 a.nearest(n, r);
             else
                 a.cube(b.cube, r);
