@@ -904,8 +904,11 @@ ImpostorFrame ImpostorRenderer::render(const ray::Camera& camera, const Impostor
         for (size_t i = 0; i < glass_.size(); ++i)
             dist[i] = glm::length(0.5f * (glass_[i].world.lo + glass_[i].world.hi) - camera.eye);
         std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist[size_t(a)] < dist[size_t(b)]; });
+        lastGlassOrder_.clear();
+        lastViewProj_ = v.viewProj;
         for (int i : order) {
             if (!visible(v, glass_[size_t(i)].world)) continue;
+            lastGlassOrder_.push_back(i);
             const bool isMover = i == moverGlass_;
             if (s.mode == Mode::RefractorMapsOnly) {
                 drawGrid(v, s, i);

@@ -109,6 +109,7 @@ class ImpostorRenderer {
     // the mover, 2 the exiting ray, 3 both), and the rays of Figure 9's class map.
     ray::Image frame() const;
     const tex::Texture& frameTexture() const { return *frame_; }
+    const tex::Texture& frameDepthTexture() const { return *frameDepth_; }  // Depth24 (dataR)
     struct Diagnostics {
         ray::Image searches, flags;
         ray::Image reflDir, reflD, exitOrigin, exitD, exitDir;  // world space; d: along the ray
@@ -149,6 +150,13 @@ class ImpostorRenderer {
     // frames as the programs see them at the mover's current place.
     const std::vector<ObjectFrame>& frames() const { return frames_; }
     const GlassConstants& lastConstants() const { return lastConstants_; }
+    // The last frame's glass pass as it was drawn (the bench's impostor peers,
+    // bench/impostor_peers_workload.h): the glass objects drawn, in order (nearest first, the
+    // ones in view), the view-projection they were drawn with, and each object's world mesh.
+    const std::vector<int>& lastGlassOrder() const { return lastGlassOrder_; }
+    const glm::mat4& lastViewProj() const { return lastViewProj_; }
+    std::span<const ImpostorVertex> glassVertices(int i) const { return glass_.at(size_t(i)).world.vertices; }
+    std::span<const uint32_t> glassIndices(int i) const { return glass_.at(size_t(i)).world.indices; }
     raster::ProgrammableDevice& device() { return device_; }
     uint64_t textureBytes() const;
     void setPath(Path path) { device_.setPath(path); }
@@ -240,6 +248,8 @@ class ImpostorRenderer {
     std::string impostorKey_, lightKey_;
     bool frameDiagnostics_ = false;
     GlassConstants lastConstants_;
+    std::vector<int> lastGlassOrder_;
+    glm::mat4 lastViewProj_{1.0f};
     struct Caustics;  // impostor_caustics.cpp
     std::shared_ptr<Caustics> caustics_;  // made by the first buildCaustics
     std::string causticKey_;

@@ -385,6 +385,58 @@ template <int kRegs>
     }
 }
 
+// The point-sampled four-channel float cube-map fetch (NearestFloat2D with `cube` and
+// data4) of kRegs registers: nearestCubeIndices on eight lanes — linearCubeFetchAvx2's face
+// selection, which is its table lane for lane, then (s, t) to texels as nearestTexels
+// without wrap and face·n² + y·n + x — the loads and transpose of texels4Avx2, and
+// nearestLoads' 0 + texel for −0 and zero outside `live`. Every operation is the SSE code's,
+// so every lane gets the bits QuadContext::sampleLevel gives it.
+template <int kRegs>
+[[gnu::target("avx2")]] inline void nearestCubeFetch4Avx2(const NearestFloat2D& n, const void* cx, const void* cy,
+                                                          const void* cz, const void* live, void* x, void* y, void* z,
+                                                          void* w) {
+    const float* d = &n.data4[0].x;
+    const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps(), half = _mm256_set1_ps(0.5f);
+    const __m256 one = _mm256_set1_ps(1.0f);
+    const __m256 scaleS = _mm256_set1_ps(float(n.width)), lastS = _mm256_set1_ps(float(n.width - 1));
+    const __m256 scaleT = _mm256_set1_ps(float(n.height)), lastT = _mm256_set1_ps(float(n.height - 1));
+    const __m256i faceTexels = _mm256_set1_epi32(int32_t(n.faceTexels)), width = _mm256_set1_epi32(n.width);
+    for (int k = 0; k < kRegs; ++k) {
+        const __m256 rx = _mm256_loadu_ps(static_cast<const float*>(cx) + 8 * k);
+        const __m256 ry = _mm256_loadu_ps(static_cast<const float*>(cy) + 8 * k);
+        const __m256 rz = _mm256_loadu_ps(static_cast<const float*>(cz) + 8 * k);
+        const __m256 ax = _mm256_andnot_ps(sign, rx), ay = _mm256_andnot_ps(sign, ry), az = _mm256_andnot_ps(sign, rz);
+        const __m256 onX = _mm256_and_ps(_mm256_cmp_ps(ax, ay, _CMP_GE_OQ), _mm256_cmp_ps(ax, az, _CMP_GE_OQ));
+        const __m256 onY = _mm256_andnot_ps(onX, _mm256_cmp_ps(ay, az, _CMP_GE_OQ));
+        const __m256 posX = _mm256_cmp_ps(rx, zero, _CMP_GE_OQ), posY = _mm256_cmp_ps(ry, zero, _CMP_GE_OQ);
+        const __m256 posZ = _mm256_cmp_ps(rz, zero, _CMP_GE_OQ);
+        const __m256 nx = _mm256_xor_ps(rx, sign), ny = _mm256_xor_ps(ry, sign), nz = _mm256_xor_ps(rz, sign);
+        const __m256 sc = _mm256_blendv_ps(_mm256_blendv_ps(_mm256_blendv_ps(nx, rx, posZ), rx, onY),
+                                           _mm256_blendv_ps(rz, nz, posX), onX);
+        const __m256 tc = _mm256_blendv_ps(ny, _mm256_blendv_ps(nz, rz, posY), onY);
+        const __m256 ma = _mm256_blendv_ps(_mm256_blendv_ps(rz, ry, onY), rx, onX);
+        const __m256 faceF = _mm256_blendv_ps(
+            _mm256_blendv_ps(_mm256_blendv_ps(_mm256_set1_ps(5.0f), _mm256_set1_ps(4.0f), posZ),
+                             _mm256_blendv_ps(_mm256_set1_ps(3.0f), _mm256_set1_ps(2.0f), posY), onY),
+            _mm256_blendv_ps(one, zero, posX), onX);
+        const __m256i face = _mm256_cvttps_epi32(faceF);
+        const __m256 a = _mm256_andnot_ps(sign, ma);
+        const __m256 onFace = _mm256_cmp_ps(a, zero, _CMP_GT_OQ);
+        const __m256 s = _mm256_blendv_ps(half, _mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(sc, a), one), half), onFace);
+        const __m256 t = _mm256_blendv_ps(half, _mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(tc, a), one), half), onFace);
+        const __m256i tx = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(s, scaleS), zero), lastS));
+        const __m256i ty = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(t, scaleT), zero), lastT));
+        const __m256i idx = _mm256_add_epi32(
+            _mm256_add_epi32(_mm256_mullo_epi32(face, faceTexels), _mm256_mullo_epi32(ty, width)), tx);
+        __m256 v[4];
+        texels4Avx2(d, idx, v);
+        const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
+        void* const out[4] = {x, y, z, w};
+        for (int j = 0; j < 4; ++j)
+            _mm256_storeu_ps(static_cast<float*>(out[j]) + 8 * k, _mm256_and_ps(_mm256_add_ps(v[j], zero), m));
+    }
+}
+
 // The four-channel fast fetches (nearestFetch4Avx2, linearCubeFetchAvx2) as the wide
 // context calls them: out of line, their arguments copied into a thread's own storage on
 // that branch only, as QuadByQuadSample's. Inlined beside the one-channel fetch at every
@@ -404,24 +456,33 @@ struct FourChannelFetch {
     [[RG_NOIPA, gnu::target("avx2")]] void cube(const LinearFloatCube& c, Vec4W<N>& out) const {
         linearCubeFetchAvx2<FloatW<N>::kRegs>(c, x.r, y.r, z.r, live.r, out.x.r, out.y.r, out.z.r, out.w.r);
     }
-    // The point-sampled float cube map on all N quads at once: the quad context's own face
-    // selection and loads (nearestCubeIndices, nearestLoads) over the group's lanes, which
-    // lie quad after quad in the registers' bytes, so each lane reads the texel it reads
-    // quad by quad (the same code, the same bytes), without N calls through QuadContext.
-    [[RG_NOIPA]] void nearestCube(const NearestFloat2D& n, Vec4W<N>& out) const {
-        static_assert(sizeof(x.r) == N * sizeof(__m128) && sizeof(live.r) == N * sizeof(__m128));
-        __m128 s[N], t[N], r[N], l[N], ox[N], oy[N], oz[N], ow[N];
+    // The point-sampled float cube map on all N quads in one call: four channels on eight
+    // lanes at a time (nearestCubeFetch4Avx2), one channel through nearestCubeIndices and
+    // nearestLoads over the quads, the SSE code QuadContext::sampleLevel runs on one quad;
+    // every lane gets the same bits (the impostors' distance maps: 40-odd fetches per
+    // fragment, which went quad by quad through the slow path before).
+    [[RG_NOIPA, gnu::target("avx2")]] void nearestCube(const NearestFloat2D& n, Vec4W<N>& out) const {
+        if (n.data4) {  // four channels: eight lanes at a time
+            nearestCubeFetch4Avx2<FloatW<N>::kRegs>(n, x.r, y.r, z.r, live.r, out.x.r, out.y.r, out.z.r, out.w.r);
+            return;
+        }
+        __m128 s[N], t[N], r[N], l[N];
+        for (int i = 0; i < N; ++i) {
+            s[i] = x.quad(i).v;
+            t[i] = y.quad(i).v;
+            r[i] = z.quad(i).v;
+            l[i] = live.quad(i).v;
+        }
         __m128i idx[N];
-        std::memcpy(s, x.r, sizeof s);
-        std::memcpy(t, y.r, sizeof t);
-        std::memcpy(r, z.r, sizeof r);
-        std::memcpy(l, live.r, sizeof l);
+        __m128 ox[N], oy[N], oz[N], ow[N];
         nearestCubeIndices<N>(n, s, t, r, idx);
         nearestLoads<N>(n, idx, l, ox, oy, oz, ow);
-        std::memcpy(out.x.r, ox, sizeof ox);
-        std::memcpy(out.y.r, oy, sizeof oy);
-        std::memcpy(out.z.r, oz, sizeof oz);
-        std::memcpy(out.w.r, ow, sizeof ow);
+        for (int i = 0; i < N; ++i) {
+            out.x.setQuad(i, Float4(ox[i]));
+            out.y.setQuad(i, Float4(oy[i]));
+            out.z.setQuad(i, Float4(oz[i]));
+            out.w.setQuad(i, Float4(ow[i]));
+        }
     }
 };
 
@@ -562,7 +623,7 @@ class QuadGroupWideContext {
         allFetches_ = 0;
     }
     // Quad by quad: filtered samplers other than the bilinear float cube map, non-power-of-two
-    // WRAP, the reference path. (Point-sampled float cube maps go through FourArgs.)
+    // WRAP, the reference path.
     using SlowArgs = detail::QuadByQuadSample<Vec4, Float, Mask>;
     using FourArgs = detail::FourChannelFetch<N>;
     template <class Fn>
