@@ -129,7 +129,9 @@ TEST(TirReference, AWhiteWorldThroughClearGlassIsWhite) {
                 EXPECT_LE(ti.segments.at(x, y, 0), float(segments));
             }
         EXPECT_GT(refractorPixels, 100);
-        if (segments > 1) EXPECT_GT(tirPixels, 0.2 * refractorPixels) << "the prism reflects totally";
+        if (segments > 1) {
+            EXPECT_GT(tirPixels, 0.2 * refractorPixels) << "the prism reflects totally";
+        }
     }
     // Without leaving after the budget, paths still inside are black: the budget matters.
     ray::TirPathOptions trapped;
