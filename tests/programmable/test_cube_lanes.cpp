@@ -63,7 +63,7 @@ TEST(ProgramFetch, BilinearCubeFastFetchMatchesTheTapListBitForBit) {
             for (int f = 0; f < 6; ++f) {
                 const auto& s = t->levelSize(l);
                 const int bpt = tex::formatInfo(d.format).bytesPerTexel;
-                std::vector<uint8_t> b(size_t(s[0]) * size_t(s[1]) * size_t(bpt));
+                std::vector<uint8_t> b(static_cast<size_t>(s[0]) * size_t(s[1]) * size_t(bpt));
                 if (bpt == 8) {
                     for (size_t i = 0; i < b.size() / 2; ++i) {
                         const uint16_t h = uint16_t(rng() & 0xFBFF);  // finite halves, ±0 included
