@@ -7,6 +7,7 @@
 
 #include "binary_search_workload.h"
 #include "core/error.h"
+#include "gl_program.h"
 
 namespace rg::bench::binary_search {
 
@@ -43,22 +44,6 @@ void main() {
 }
 )";
 
-GLuint compile(GLenum kind, const char* source) {
-    GLuint shader = glCreateShader(kind);
-    glShaderSource(shader, 1, &source, nullptr);
-    glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[2048] = {};
-        glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-        throw Error(std::string("binary_search: the ") +
-                    (kind == GL_VERTEX_SHADER ? "vertex" : "fragment") +
-                    " shader does not compile: " + log);
-    }
-    return shader;
-}
-
 // Clip-space corners and their uv: two triangles covering the viewport. Window x of the
 // pixel centre is x + ½, so the interpolated uv there is (x + ½)/512, as specified.
 const float kQuad[6][4] = {
@@ -69,19 +54,7 @@ const float kQuad[6][4] = {
 }  // namespace
 
 void setupGl() {
-    // The frame goes to a framebuffer object (an RGBA8 texture), as an application that
-    // renders off screen would: OSMesa's window buffer would add a copy of the whole image
-    // into the caller's memory at every glFinish, which is not rendering.
-    GLuint colour = 0, fbo = 0;
-    glGenTextures(1, &colour);
-    glBindTexture(GL_TEXTURE_2D, colour);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kWidth, kHeight, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour, 0);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw Error("binary_search: the RGBA8 framebuffer object is not complete");
-    glViewport(0, 0, kWidth, kHeight);
+    gl::bindOffscreenTarget(kWidth, kHeight, /*depth=*/false, "binary_search");
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
@@ -102,25 +75,7 @@ void setupGl() {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
 
-    GLuint program = glCreateProgram();
-    const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-    const GLuint fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
-    glAttachShader(program, vs);
-    glAttachShader(program, fs);
-    glBindAttribLocation(program, 0, "position");
-    glBindAttribLocation(program, 1, "texCoord");
-    glBindFragDataLocation(program, 0, "colour");
-    glLinkProgram(program);
-    GLint linked = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &linked);
-    if (!linked) {
-        char log[2048] = {};
-        glGetProgramInfoLog(program, sizeof log, nullptr, log);
-        throw Error(std::string("binary_search: the program does not link: ") + log);
-    }
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    glUseProgram(program);
+    const GLuint program = gl::useProgram(kVertexShader, kFragmentShader, {"position", "texCoord"}, "binary_search");
     glUniform1i(glGetUniformLocation(program, "depthTexture"), 0);
 
     GLuint vao = 0, vbo = 0;

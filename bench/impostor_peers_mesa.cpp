@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "gl_program.h"
 
 namespace rg::bench::impostor_peers {
 
@@ -385,21 +386,6 @@ Paths exitPaths(vec3 P, vec3 Nraw, vec3 V) {
 }
 )";
 
-GLuint compile(GLenum kind, const char* source) {
-    GLuint shader = glCreateShader(kind);
-    glShaderSource(shader, 1, &source, nullptr);
-    glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[4096] = {};
-        glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-        throw Error(std::string("impostor peers: the ") + (kind == GL_VERTEX_SHADER ? "vertex" : "fragment") +
-                    " shader does not compile: " + log);
-    }
-    return shader;
-}
-
 void pointClamp(GLenum target) {
     glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -449,21 +435,7 @@ const std::string& fragmentShader(Exit e) {
 void setupGl(const Inputs& in, const std::string& fragment) {
     gl = GlState{};
     // An RGBA8 colour texture and a 24-bit depth renderbuffer, the formats of our side.
-    GLuint colourTex = 0, depth = 0, fbo = 0;
-    glGenTextures(1, &colourTex);
-    glBindTexture(GL_TEXTURE_2D, colourTex);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kWidth, kHeight, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    glGenRenderbuffers(1, &depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kWidth, kHeight);
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colourTex, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw Error("impostor peers: the RGBA8 + depth24 framebuffer object is not complete");
-    glViewport(0, 0, kWidth, kHeight);
+    gl::bindOffscreenTarget(kWidth, kHeight, /*depth=*/true, "impostor peers");
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
@@ -482,25 +454,7 @@ void setupGl(const Inputs& in, const std::string& fragment) {
     for (const Cube& c : in.refractors) gl.refractors.push_back(uploadCube(c));
     for (const HeightMap& h : in.heights) gl.heights.push_back(uploadHeight(h));
 
-    GLuint program = glCreateProgram();
-    const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-    const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment.c_str());
-    glAttachShader(program, vs);
-    glAttachShader(program, fs);
-    glBindAttribLocation(program, 0, "position");
-    glBindAttribLocation(program, 1, "normal");
-    glBindFragDataLocation(program, 0, "colour");
-    glLinkProgram(program);
-    GLint linked = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &linked);
-    if (!linked) {
-        char log[4096] = {};
-        glGetProgramInfoLog(program, sizeof log, nullptr, log);
-        throw Error(std::string("impostor peers: the program does not link: ") + log);
-    }
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    glUseProgram(program);
+    const GLuint program = gl::useProgram(kVertexShader, fragment.c_str(), {"position", "normal"}, "impostor peers");
 
     // ---- uniforms: the frame's, then the locations of each piece's ----
     auto at = [program](const char* name) { return glGetUniformLocation(program, name); };

@@ -7,6 +7,7 @@
 #include <cstddef>
 
 #include "core/error.h"
+#include "gl_program.h"
 
 namespace rg::bench::tir_final_pass {
 
@@ -193,22 +194,6 @@ void main() {
 
 namespace {
 
-GLuint compile(GLenum kind, const char* source) {
-    GLuint shader = glCreateShader(kind);
-    glShaderSource(shader, 1, &source, nullptr);
-    glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[4096] = {};
-        glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-        throw Error(std::string("tir_final_pass: the ") +
-                    (kind == GL_VERTEX_SHADER ? "vertex" : "fragment") +
-                    " shader does not compile: " + log);
-    }
-    return shader;
-}
-
 // A 2D or cube face image of RGBA16F texels given as floats (binary16 values: the
 // conversion to GL_RGBA16F is exact).
 void uploadMap(GLenum unit, const std::vector<glm::vec4>& texels) {
@@ -228,21 +213,7 @@ void uploadMap(GLenum unit, const std::vector<glm::vec4>& texels) {
 
 void setupGl(const Inputs& in, const char* fragment) {
     // An RGBA8 colour texture and a 24-bit depth renderbuffer, the formats of our side.
-    GLuint colour = 0, depth = 0, fbo = 0;
-    glGenTextures(1, &colour);
-    glBindTexture(GL_TEXTURE_2D, colour);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kWidth, kHeight, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    glGenRenderbuffers(1, &depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, kWidth, kHeight);
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw Error("tir_final_pass: the RGBA8 + depth24 framebuffer object is not complete");
-    glViewport(0, 0, kWidth, kHeight);
+    gl::bindOffscreenTarget(kWidth, kHeight, /*depth=*/true, "tir_final_pass");
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
@@ -277,25 +248,7 @@ void setupGl(const Inputs& in, const char* fragment) {
     glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAX_LEVEL, 0);
     glDisable(GL_TEXTURE_CUBE_MAP_SEAMLESS);  // ours filters each face on its own
 
-    GLuint program = glCreateProgram();
-    const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-    const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment);
-    glAttachShader(program, vs);
-    glAttachShader(program, fs);
-    glBindAttribLocation(program, 0, "position");
-    glBindAttribLocation(program, 1, "normal");
-    glBindFragDataLocation(program, 0, "colour");
-    glLinkProgram(program);
-    GLint linked = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &linked);
-    if (!linked) {
-        char log[4096] = {};
-        glGetProgramInfoLog(program, sizeof log, nullptr, log);
-        throw Error(std::string("tir_final_pass: the program does not link: ") + log);
-    }
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    glUseProgram(program);
+    const GLuint program = gl::useProgram(kVertexShader, fragment, {"position", "normal"}, "tir_final_pass");
 
     // ---- uniforms: EyeVP's and SearchConstants' values ----
     auto at = [program](const char* name) { return glGetUniformLocation(program, name); };
