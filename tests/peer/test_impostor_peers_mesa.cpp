@@ -14,12 +14,17 @@
 #include <cstring>
 #include <string>
 
+#include "closeness.h"
 #include "bench/impostor_peers_mesa.h"
 #include "bench/impostor_peers_retroglass.h"
 #include "bench/impostor_peers_workload.h"
 
 namespace rg::bench::impostor_peers {
 namespace {
+
+using peer_test::Closeness;
+using peer_test::compareCovered;
+using peer_test::describe;
 
 const char* const kRepro = "reproduce: build/bin/test_peer --gtest_filter='ImpostorPeers*'";
 
@@ -93,47 +98,7 @@ TEST(ImpostorPeersRetroglass, HeightSameBytesOnTheReferencePath) { expectReferen
 
 // ---- llvmpipe against ours ---------------------------------------------------------------
 
-struct Closeness {
-    int oursCovered = 0, mesaCovered = 0, both = 0;
-    int within = 0;          // of `both`: every channel within kSteps
-    double meanError = 0.0;  // of `both`: mean over pixels and RGB channels, 8-bit steps
-    int maxError = 0;
-};
-
 constexpr int kSteps = 3;
-
-// Pixels covered on a side: alpha 255 (the glass programs write alpha 1 over the clear's 0).
-Closeness compare(const std::vector<uint8_t>& ours, const std::vector<uint8_t>& mesa) {
-    Closeness c;
-    double sum = 0.0;
-    for (size_t i = 0; i < ours.size(); i += 4) {
-        const bool o = ours[i + 3] == 255, m = mesa[i + 3] == 255;
-        c.oursCovered += o;
-        c.mesaCovered += m;
-        if (!(o && m)) continue;
-        ++c.both;
-        int worst = 0;
-        for (size_t k = 0; k < 3; ++k) {
-            const int d = std::abs(int(ours[i + k]) - int(mesa[i + k]));
-            worst = std::max(worst, d);
-            sum += d;
-        }
-        c.maxError = std::max(c.maxError, worst);
-        c.within += worst <= kSteps;
-    }
-    c.meanError = c.both ? sum / (3.0 * c.both) : 0.0;
-    return c;
-}
-
-std::string describe(const Closeness& c) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "ours %d glass pixels, llvmpipe %d, both %d; within %d steps: %d (%.2f %%); mean error %.3f "
-                  "steps, largest %d",
-                  c.oursCovered, c.mesaCovered, c.both, kSteps, c.within, c.both ? 100.0 * c.within / c.both : 0.0,
-                  c.meanError, c.maxError);
-    return buf;
-}
 
 // The closeness the GLSL twins are held to. The searches are chains of decisions on floats
 // (which cube face and texel, undershoot or overshoot, inside or outside the height map,
@@ -174,9 +139,9 @@ bool closeEnough(const Closeness& c, Exit e) {
 void expectClose(Exit e) {
     const MesaImage mesa = renderMesa(inputs(e), 1);
     ASSERT_NE(mesa.renderer.find("llvmpipe"), std::string::npos) << mesa.renderer;
-    const Closeness c = compare(oursImage(e), mesa.rgba);
-    std::printf("%s on %s: %s\n", workloadName(e), mesa.renderer.c_str(), describe(c).c_str());
-    EXPECT_TRUE(closeEnough(c, e)) << workloadName(e) << ": " << describe(c) << "; " << kRepro;
+    const Closeness c = compareCovered(oursImage(e), mesa.rgba, kSteps);
+    std::printf("%s on %s: %s\n", workloadName(e), mesa.renderer.c_str(), describe(c, "glass pixels").c_str());
+    EXPECT_TRUE(closeEnough(c, e)) << workloadName(e) << ": " << describe(c, "glass pixels") << "; " << kRepro;
 }
 
 TEST(ImpostorPeersMesa, SecantCloseToOurs) { expectClose(Exit::Secant); }
@@ -197,9 +162,9 @@ void expectBugsRefused(Exit e, std::initializer_list<Bug> bugs) {
         const size_t at = fs.find(bug.from);
         ASSERT_NE(at, std::string::npos) << bug.what << ": the shader no longer has `" << bug.from << "`";
         fs.replace(at, std::strlen(bug.from), bug.to);
-        const Closeness c = compare(ours, renderMesa(inputs(e), 1, fs).rgba);
-        std::printf("planted in %s: %s: %s\n", workloadName(e), bug.what, describe(c).c_str());
-        EXPECT_FALSE(closeEnough(c, e)) << workloadName(e) << ": " << bug.what << " passes the check: " << describe(c)
+        const Closeness c = compareCovered(ours, renderMesa(inputs(e), 1, fs).rgba, kSteps);
+        std::printf("planted in %s: %s: %s\n", workloadName(e), bug.what, describe(c, "glass pixels").c_str());
+        EXPECT_FALSE(closeEnough(c, e)) << workloadName(e) << ": " << bug.what << " passes the check: " << describe(c, "glass pixels")
                                      << "; " << kRepro;
     }
 }

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <string>
 
+#include "closeness.h"
 #include "bench/tir_final_pass_mesa.h"
 #include "bench/tir_final_pass_retroglass.h"
 #include "bench/tir_final_pass_workload.h"
@@ -21,6 +22,10 @@
 
 namespace rg::bench::tir_final_pass {
 namespace {
+
+using peer_test::Closeness;
+using peer_test::compareCovered;
+using peer_test::describe;
 
 const char* const kRepro = "reproduce: build/bin/test_peer --gtest_filter='TirFinalPass*'";
 
@@ -87,47 +92,7 @@ TEST(TirFinalPassRetroglass, SameBytesOnTheReferencePath) {
 
 // ---- llvmpipe against ours ---------------------------------------------------------------
 
-struct Closeness {
-    int oursCovered = 0, mesaCovered = 0, both = 0;
-    int within = 0;          // of `both`: every channel within kSteps
-    double meanError = 0.0;  // of `both`: mean over pixels and RGB channels, 8-bit steps
-    int maxError = 0;
-};
-
-// Pixels covered on a side: alpha 255 (TirFP writes alpha 1 over the clear's 0).
-Closeness compare(const std::vector<uint8_t>& ours, const std::vector<uint8_t>& mesa, int steps) {
-    Closeness c;
-    double sum = 0.0;
-    for (size_t i = 0; i < ours.size(); i += 4) {
-        const bool o = ours[i + 3] == 255, m = mesa[i + 3] == 255;
-        c.oursCovered += o;
-        c.mesaCovered += m;
-        if (!(o && m)) continue;
-        ++c.both;
-        int worst = 0;
-        for (size_t k = 0; k < 3; ++k) {
-            const int d = std::abs(int(ours[i + k]) - int(mesa[i + k]));
-            worst = std::max(worst, d);
-            sum += d;
-        }
-        c.maxError = std::max(c.maxError, worst);
-        c.within += worst <= steps;
-    }
-    c.meanError = c.both ? sum / (3.0 * c.both) : 0.0;
-    return c;
-}
-
 constexpr int kSteps = 3;
-
-std::string describe(const Closeness& c) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "ours %d refractive pixels, llvmpipe %d, both %d; within %d steps: %d (%.2f %%); mean "
-                  "error %.3f steps, largest %d",
-                  c.oursCovered, c.mesaCovered, c.both, kSteps, c.within, c.both ? 100.0 * c.within / c.both : 0.0,
-                  c.meanError, c.maxError);
-    return buf;
-}
 
 // The closeness the GLSL twin is held to, and why it cannot be exact. The search is a chain
 // of decisions on floats (which texel, which side of a surface, refract or reflect), and
@@ -153,9 +118,9 @@ bool closeEnough(const Closeness& c) {
 TEST(TirFinalPassMesa, CloseToOurs) {
     const MesaImage mesa = renderMesa(inputs(), 1);
     ASSERT_NE(mesa.renderer.find("llvmpipe"), std::string::npos) << mesa.renderer;
-    const Closeness c = compare(oursImage(), mesa.rgba, kSteps);
-    std::printf("tir_final_pass on %s: %s\n", mesa.renderer.c_str(), describe(c).c_str());
-    EXPECT_TRUE(closeEnough(c)) << describe(c) << "; " << kRepro;
+    const Closeness c = compareCovered(oursImage(), mesa.rgba, kSteps);
+    std::printf("tir_final_pass on %s: %s\n", mesa.renderer.c_str(), describe(c, "refractive pixels").c_str());
+    EXPECT_TRUE(closeEnough(c)) << describe(c, "refractive pixels") << "; " << kRepro;
 }
 
 // The same check against shaders with a bug planted: each mistake a twin could make must
@@ -185,9 +150,9 @@ TEST(TirFinalPassMesa, PlantedBugsFailTheCheck) {
         const size_t at = fs.find(bug.from);
         ASSERT_NE(at, std::string::npos) << bug.what << ": the shader no longer has `" << bug.from << "`";
         fs.replace(at, std::strlen(bug.from), bug.to);
-        const Closeness c = compare(ours, renderMesa(inputs(), 1, fs).rgba, kSteps);
-        std::printf("planted: %s: %s\n", bug.what, describe(c).c_str());
-        EXPECT_FALSE(closeEnough(c)) << bug.what << " passes the check: " << describe(c) << "; " << kRepro;
+        const Closeness c = compareCovered(ours, renderMesa(inputs(), 1, fs).rgba, kSteps);
+        std::printf("planted: %s: %s\n", bug.what, describe(c, "refractive pixels").c_str());
+        EXPECT_FALSE(closeEnough(c)) << bug.what << " passes the check: " << describe(c, "refractive pixels") << "; " << kRepro;
     }
 }
 
