@@ -1,7 +1,7 @@
 // The retroglass side of the impostor_secant and impostor_height workloads
 // (bench/impostor_peers_workload.h): the inputs on a geforce8800 programmable device bound as
 // ImpostorRenderer::drawGlass binds them, and one frame = clear, then every draw through
-// GlassFP or GlassHeightFP. Shared by the benchmark and tests/peer (which compares it with
+// GlassFP or GlassHeightFP, in one batch. Shared by the benchmark and tests/peer (which compares it with
 // llvmpipe's frame and with the renderer's own).
 #pragma once
 
@@ -78,6 +78,9 @@ struct ImpostorPeerScene {
         impostors::GlassConstants k;
         for (int c = 0; c < 3; ++c) k.eye[c] = in.eye[c];
         k.iterations = in.iterations;
+        // The draws as one batch, as ImpostorRenderer's glass pass issues them (and as
+        // llvmpipe defers a frame's draws to its scene).
+        raster::ProgramBatch batch(device);
         for (const Draw& d : in.draws) {
             k.self = d.frame;
             const std::span<const impostors::ImpostorVertex> vertices(in.vertices.data() + d.firstVertex, d.vertexCount);
@@ -96,6 +99,7 @@ struct ImpostorPeerScene {
                 impostors::drawHeightGlass(device, vp, fp, vertices, indices);
             }
         }
+        batch.end();
     }
 
     // The target's RGBA8 bytes, row 0 at the top.

@@ -422,6 +422,33 @@ void mergeQuad(const ProgramDraw& d, int qx, int qy, const QuadContext& f, uint3
     }
 }
 
+// One draw between its checks and its pixels: the state it was issued with, its programs,
+// and what the vertex stage and setup made of it. A draw run at once uses the device's
+// bindings; a batched one keeps its own copy (`units`), since later draws may rebind.
+struct DrawJob {
+    ProgramDraw d;
+    std::array<BoundUnit, kMaxProgramUnits> units{};
+    ProgramState state;
+    Viewport viewport;
+    bool scissorOn = false;
+    Rect scissor;
+    ProgramPrimitive primitive = ProgramPrimitive::TriangleList;
+    std::span<const uint32_t> indices;
+    size_t vertexCount = 0;
+    uint32_t vertexUnits = 0;
+    VertexStageFn runVertices = nullptr;
+    const void* stage = nullptr;
+    TriangleKernelFn fast = nullptr, reference = nullptr;
+    void* kernel = nullptr;
+    std::unique_ptr<HeldPrograms> held;
+    // The setup's output.
+    std::vector<ProgramVertex> vertices;
+    std::vector<ProcessedVertex> processed;
+    TriangleChunk chunk;
+    std::vector<ProgramTriangle> tris;
+    ProgramCounters counters;  // the draw, its vertices and its triangles
+};
+
 }  // namespace detail
 
 // ---- the device ---------------------------------------------------------------------------
@@ -440,13 +467,12 @@ struct ProgrammableDevice::Impl {
     std::array<std::shared_ptr<const tex::Texture>, kMaxProgramUnits> textures{};
     std::array<detail::BoundUnit, kMaxProgramUnits> units{};
     ProgramCounters counters;
-    detail::ProgramDraw draw;
-    std::vector<detail::ProgramVertex> vertices;
-    std::vector<detail::ProcessedVertex> processed;
-    detail::TriangleChunk chunk;
-    std::vector<detail::ProgramTriangle> tris;
+    detail::DrawJob immediate;                           // a draw outside a batch
+    std::vector<std::unique_ptr<detail::DrawJob>> pool;  // a batch's draws: the first batchSize
+    size_t batchSize = 0;
+    detail::DrawJob* issuing = nullptr;                  // beginDraw's draw, for submitDraw
     std::vector<ProgramCounters> tileCounters;
-    std::vector<int> busyTiles;  // finishDraw: the tiles holding triangles (several threads)
+    std::vector<int> busyTiles;  // rasterize: the tiles holding triangles (several threads)
 
     Impl(const Profile& p, DeviceOptions o) : profile(p), options(o) { makeArena(); }
     void makeArena() {
@@ -477,6 +503,22 @@ struct ProgrammableDevice::Impl {
     void requireTargets() const {
         if (width == 0) throw InvalidState("no render target attached (setRenderTargets)");
     }
+    void setup(detail::DrawJob& job);
+    void rasterize(std::span<detail::DrawJob* const> jobs);
+    // Runs body(i) for i in [0, n) on the arena's threads, grain `grain`.
+    template <class Body>
+    void parallel(size_t n, size_t grain, const Body& body) {
+        [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
+        RG_TSAN_RELEASE(&forkJoin);
+        arena->execute([&] {
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const tbb::blocked_range<size_t>& r) {
+                RG_TSAN_ACQUIRE(&forkJoin);
+                for (size_t i = r.begin(); i < r.end(); ++i) body(i);
+                RG_TSAN_RELEASE(&forkJoin);
+            });
+        });
+        RG_TSAN_ACQUIRE(&forkJoin);
+    }
 };
 
 ProgrammableDevice::ProgrammableDevice(const Profile& profile, DeviceOptions options) {
@@ -485,6 +527,14 @@ ProgrammableDevice::ProgrammableDevice(const Profile& profile, DeviceOptions opt
     impl_ = std::make_unique<Impl>(profile, options);
 }
 ProgrammableDevice::~ProgrammableDevice() {
+    // A batch left open is run, so that no issued draw is lost (and a recorder's final
+    // hashes are of the pixels its trace's draws make); a destructor must not throw.
+    if (batching_) {
+        try {
+            endBatch();
+        } catch (const std::exception&) {
+        }
+    }
     // The recorder's trace gets the final target hashes while the targets still exist; a
     // destructor must not throw, and a recorder that cannot write them any more (already
     // finished) has nothing to add.
@@ -497,14 +547,19 @@ ProgrammableDevice::~ProgrammableDevice() {
 }
 
 const Profile& ProgrammableDevice::profile() const { return impl_->profile; }
-void ProgrammableDevice::setPath(Path path) { impl_->options.path = path; }
+void ProgrammableDevice::setPath(Path path) {
+    requireNoBatch("setPath");
+    impl_->options.path = path;
+}
 void ProgrammableDevice::setThreads(int threads) {
+    requireNoBatch("setThreads");
     impl_->options.threads = threads;
     impl_->makeArena();
 }
 
 void ProgrammableDevice::setRenderTargets(std::span<const ColorTarget> colors, const DepthTarget& depth) {
     Impl& m = *impl_;
+    requireNoBatch("setRenderTargets");
     if (colors.size() > size_t(kMaxColorTargets))
         throw InvalidState(std::to_string(colors.size()) + " colour targets; at most " +
                            std::to_string(kMaxColorTargets));
@@ -613,6 +668,7 @@ const tex::SamplerState& ProgrammableDevice::sampler(int unit) const {
 
 void ProgrammableDevice::setRecorder(std::shared_ptr<TraceRecorder> recorder) {
     if (recorder == recorder_) return;
+    requireNoBatch("setRecorder");
     if (recorder) recorder->attach(*this);  // first, so that a refused recorder changes nothing
     if (recorder_) recorder_->detach(*this);
     recorder_ = std::move(recorder);
@@ -627,6 +683,7 @@ void ProgrammableDevice::recordDraw(std::type_index program, std::span<const uin
 }
 
 void ProgrammableDevice::beginFrame() {
+    requireNoBatch("beginFrame");
     impl_->counters = ProgramCounters{};
     if (recorder_) recorder_->beginFrame();
 }
@@ -635,6 +692,7 @@ const ProgramCounters& ProgrammableDevice::counters() const { return impl_->coun
 
 void ProgrammableDevice::clearColor(int target, const glm::vec4& value) {
     Impl& m = *impl_;
+    requireNoBatch("clearColor");
     if (target < 0 || size_t(target) >= m.colors.size())
         throw InvalidState("clear of render target " + std::to_string(target) + ", which is not attached");
     if (recorder_) recorder_->clearColor(*this, target, value);
@@ -650,6 +708,7 @@ void ProgrammableDevice::clearColor(int target, const glm::vec4& value) {
 
 void ProgrammableDevice::clearDepth(float value) {
     Impl& m = *impl_;
+    requireNoBatch("clearDepth");
     if (!m.depth.texture) throw InvalidState("depth clear without a depth target");
     if (recorder_) recorder_->clearDepth(*this, value);
     const bool d24 = m.depth.texture->desc().format == tex::TexelFormat::Depth24;
@@ -709,7 +768,22 @@ detail::ProgramDraw& ProgrammableDevice::beginDraw(int varyings, uint32_t target
             throw InvalidState("index " + std::to_string(i) + " past the " + std::to_string(vertexCount) +
                                " vertices of the draw");
 
-    detail::ProgramDraw& d = m.draw;
+    detail::DrawJob* job = &m.immediate;
+    if (batching_) {
+        if (m.batchSize == m.pool.size()) m.pool.push_back(std::make_unique<detail::DrawJob>());
+        job = m.pool[m.batchSize].get();
+        job->units = m.units;  // later draws of the batch may rebind
+    }
+    m.issuing = job;
+    job->state = m.state;
+    job->viewport = m.viewport;
+    job->scissorOn = m.scissorOn;
+    job->scissor = m.scissor;
+    job->primitive = primitive;
+    job->indices = indices;
+    job->vertexCount = vertexCount;
+    job->vertexUnits = vertexUnits;
+    detail::ProgramDraw& d = job->d;
     d = detail::ProgramDraw{};
     d.subpixelBits = m.profile.subpixelBits;
     d.varyings = varyings;
@@ -736,64 +810,105 @@ detail::ProgramDraw& ProgrammableDevice::beginDraw(int varyings, uint32_t target
         d.depthWrite = m.state.depthWrite != 0;
         d.depthFunc = m.state.depthFunc;
     }
-    d.ctx.units = &m.units;
+    d.ctx.units = batching_ ? &job->units : &m.units;
     d.ctx.declaredUnits = units;
     d.ctx.declaredTargets = targets;
     d.ctx.path = m.options.path;
     return d;
 }
 
-VertexContext::Setup ProgrammableDevice::vertexFetchSetup(uint32_t vertexUnits) const {
-    VertexContext::Setup s;
-    s.units = &impl_->units;
-    s.declaredUnits = vertexUnits;
-    s.path = impl_->options.path;
-    return s;
+void ProgrammableDevice::requireNoBatch(const char* what) const {
+    if (batching_) throw InvalidState(std::string(what) + " inside a draw batch (endBatch first)");
 }
 
-void ProgrammableDevice::addVertexFetches(uint64_t n) {
-    std::atomic_ref<uint64_t>(impl_->counters.vertexTextureFetches).fetch_add(n, std::memory_order_relaxed);
+void ProgrammableDevice::beginBatch() {
+    requireNoBatch("beginBatch");
+    impl_->batchSize = 0;
+    batching_ = true;
 }
 
-std::vector<detail::ProgramVertex>& ProgrammableDevice::vertexScratch(size_t n) {
-    impl_->vertices.resize(n);
-    impl_->counters.vertexInvocations += n;
-    return impl_->vertices;
-}
-
-void ProgrammableDevice::forEachVertexRange(size_t n, const std::function<void(size_t, size_t)>& body) {
+void ProgrammableDevice::endBatch() {
     Impl& m = *impl_;
-    // Each vertex is independent, so any split gives the same bytes.
-    if (m.options.path == Path::Reference || n < 4096) {
-        body(0, n);
+    if (!batching_) throw InvalidState("endBatch without beginBatch");
+    batching_ = false;
+    std::vector<detail::DrawJob*> jobs;
+    for (size_t i = 0; i < m.batchSize; ++i) jobs.push_back(m.pool[i].get());
+    m.batchSize = 0;
+    // The programs' copies go with the batch, run or not (a vertex program may throw).
+    struct Release {
+        std::span<detail::DrawJob* const> jobs;
+        ~Release() {
+            for (detail::DrawJob* j : jobs) j->held.reset();
+        }
+    } release{jobs};
+    if (jobs.empty()) return;
+    // Each draw's vertices and setup are its own, so the draws may be set up on any thread
+    // in any order; rasterize meets them in issue order.
+    if (m.options.path == Path::Reference || m.arena->max_concurrency() <= 1 || jobs.size() == 1)
+        for (detail::DrawJob* j : jobs) m.setup(*j);
+    else
+        m.parallel(jobs.size(), 1, [&](size_t i) { m.setup(*jobs[i]); });
+    m.rasterize(jobs);
+}
+
+void ProgrammableDevice::submitDraw(const DrawPrograms& programs, const void* stage, void* kernel,
+                                    std::unique_ptr<detail::HeldPrograms> held) {
+    Impl& m = *impl_;
+    detail::DrawJob& job = *m.issuing;
+    job.runVertices = programs.vertices;
+    job.fast = programs.fast;
+    job.reference = programs.reference;
+    job.stage = stage;
+    job.kernel = kernel;
+    job.held = std::move(held);
+    if (batching_) {
+        ++m.batchSize;
         return;
     }
-    [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
-    RG_TSAN_RELEASE(&forkJoin);
-    m.arena->execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
-            RG_TSAN_ACQUIRE(&forkJoin);
-            body(r.begin(), r.end());
-            RG_TSAN_RELEASE(&forkJoin);
-        });
-    });
-    RG_TSAN_ACQUIRE(&forkJoin);
+    detail::DrawJob* one = &job;
+    m.setup(job);
+    m.rasterize({&one, 1});
 }
 
-void ProgrammableDevice::finishDraw(ProgramPrimitive primitive, std::span<const uint32_t> indices,
-                                    detail::TriangleKernelFn fast, detail::TriangleKernelFn reference,
-                                    void* kernel) {
+// The vertex stage, primitive assembly, clip and setup of one draw, and its binning into
+// the tiles; its counters in job.counters.
+void ProgrammableDevice::Impl::setup(detail::DrawJob& job) {
     using namespace detail;
-    Impl& m = *impl_;
-    ProgramDraw& d = m.draw;
-    const bool points = primitive == ProgramPrimitive::PointList;
+    ProgramDraw& d = job.d;
+    ProgramCounters& c = job.counters;
+    c = ProgramCounters{};
+    c.drawCalls = 1;
+
+    // ---- vertex stage -----------------------------------------------------------------------
+    // Each vertex is independent, so any split gives the same bytes. Vertex texture fetch:
+    // each range counts its texels, the counts are summed (integers: the total does not
+    // depend on the split).
+    const size_t nv = job.vertexCount;
+    job.vertices.resize(nv);
+    c.vertexInvocations = nv;
+    VertexContext::Setup vs;
+    vs.units = d.ctx.units;
+    vs.declaredUnits = job.vertexUnits;
+    vs.path = options.path;
+    auto range = [&](size_t b, size_t e) {
+        VertexContext t(vs);
+        job.runVertices(job.stage, b, e, job.vertices.data(), &t);
+        std::atomic_ref<uint64_t>(c.vertexTextureFetches).fetch_add(t.fetches(), std::memory_order_relaxed);
+    };
+    constexpr size_t kVertexGrain = 2048;
+    if (options.path == Path::Reference || nv < 2 * kVertexGrain || arena->max_concurrency() <= 1)
+        range(0, nv);
+    else
+        parallel((nv + kVertexGrain - 1) / kVertexGrain, 1,
+                 [&](size_t k) { range(k * kVertexGrain, std::min(nv, (k + 1) * kVertexGrain)); });
+
+    const bool points = job.primitive == ProgramPrimitive::PointList;
     const int varyingFloats = 4 * d.varyings + (points ? 2 : 0);
-    const Rect* scissor = m.scissorOn ? &m.scissor : nullptr;
-    const CullMode cull = points ? CullMode::None : m.state.cull;
-    const DrawContext dc = makeProgramDrawContext(m.width, m.height, m.viewport, scissor, cull,
-                                                  d.subpixelBits, varyingFloats,
-                                                  d.depthData != nullptr, m.options.path);
-    ++m.counters.drawCalls;
+    const Rect* scissor = job.scissorOn ? &job.scissor : nullptr;
+    const CullMode cull = points ? CullMode::None : job.state.cull;
+    const DrawContext dc = makeProgramDrawContext(width, height, job.viewport, scissor, cull, d.subpixelBits,
+                                                  varyingFloats, d.depthData != nullptr, options.path);
+    const ProgramPrimitive primitive = job.primitive;
 
     // ---- primitive assembly, clip and setup (the fixed-function code) ---------------------
     auto toProcessed = [&](const ProgramVertex& pv, ProcessedVertex& out) {
@@ -802,11 +917,11 @@ void ProgrammableDevice::finishDraw(ProgramPrimitive primitive, std::span<const 
             out.attr[size_t(kColorAttrs + a)] = pv.varyings[size_t(a >> 2)][a & 3];
         projectProgramVertex(dc, out);
     };
-    const size_t n = indices.empty() ? m.vertices.size() : indices.size();
+    const size_t n = job.indices.empty() ? job.vertices.size() : job.indices.size();
     auto vertexAt = [&](size_t i) -> const ProgramVertex& {
-        return m.vertices[indices.empty() ? i : size_t(indices[i])];
+        return job.vertices[job.indices.empty() ? i : size_t(job.indices[i])];
     };
-    TriangleChunk& chunk = m.chunk;
+    TriangleChunk& chunk = job.chunk;
     chunk.tris.clear();
     chunk.texPlanes.clear();
     GeometryCounters gc;
@@ -814,53 +929,53 @@ void ProgrammableDevice::finishDraw(ProgramPrimitive primitive, std::span<const 
     if (points) {
         // A point is the square of edge pointSize centred on its position: two triangles
         // sharing the diagonal, so the top-left rule gives each covered pixel to one.
-        const float hx = m.state.pointSize / float(m.viewport.width);
-        const float hy = m.state.pointSize / float(m.viewport.height);
+        const float hx = job.state.pointSize / float(job.viewport.width);
+        const float hy = job.state.pointSize / float(job.viewport.height);
         static constexpr float kCorner[4][4] = {  // NDC offset signs, then point coordinate
             {-1, 1, 0, 0}, {1, 1, 1, 0}, {-1, -1, 0, 1}, {1, -1, 1, 1}};
-        m.processed.resize(4);
+        job.processed.resize(4);
         for (size_t i = 0; i < n; ++i) {
             const ProgramVertex& pv = vertexAt(i);
             for (int c = 0; c < 4; ++c) {
                 ProgramVertex corner = pv;
                 corner.clip.x = pv.clip.x + kCorner[c][0] * hx * pv.clip.w;
                 corner.clip.y = pv.clip.y + kCorner[c][1] * hy * pv.clip.w;
-                ProcessedVertex& pr = m.processed[size_t(c)];
+                ProcessedVertex& pr = job.processed[size_t(c)];
                 toProcessed(corner, pr);
                 pr.attr[size_t(kColorAttrs + 4 * d.varyings)] = kCorner[c][2];
                 pr.attr[size_t(kColorAttrs + 4 * d.varyings + 1)] = kCorner[c][3];
             }
             GeometryCounters pc;
-            clipAndSetup(dc, m.processed[0], m.processed[1], m.processed[2], none, none, chunk.tris,
+            clipAndSetup(dc, job.processed[0], job.processed[1], job.processed[2], none, none, chunk.tris,
                          chunk.texPlanes, pc);
-            clipAndSetup(dc, m.processed[1], m.processed[3], m.processed[2], none, none, chunk.tris,
+            clipAndSetup(dc, job.processed[1], job.processed[3], job.processed[2], none, none, chunk.tris,
                          chunk.texPlanes, pc);
             gc.add(pc);
         }
-        m.counters.primitivesSubmitted += n;
+        c.primitivesSubmitted += n;
     } else {
-        m.processed.resize(n);
-        for (size_t i = 0; i < n; ++i) toProcessed(vertexAt(i), m.processed[i]);
+        job.processed.resize(n);
+        for (size_t i = 0; i < n; ++i) toProcessed(vertexAt(i), job.processed[i]);
         const Primitive prim = primitive == ProgramPrimitive::TriangleList    ? Primitive::TriangleList
                                : primitive == ProgramPrimitive::TriangleStrip ? Primitive::TriangleStrip
                                                                               : Primitive::TriangleFan;
         const uint32_t count = triangleCount(prim, uint32_t(n));
         for (uint32_t i = 0; i < count; ++i) {
             const auto v = triangleVertices(prim, i);
-            clipAndSetup(dc, m.processed[v[0]], m.processed[v[1]], m.processed[v[2]], none, none,
+            clipAndSetup(dc, job.processed[v[0]], job.processed[v[1]], job.processed[v[2]], none, none,
                          chunk.tris, chunk.texPlanes, gc);
         }
-        m.counters.primitivesSubmitted += count;
+        c.primitivesSubmitted += count;
     }
-    m.counters.trianglesDrawn += gc.drawn;
-    m.counters.trianglesCulled += gc.culled;
-    m.counters.trianglesClipped += gc.clipped;
-    m.counters.primitivesInvalid += gc.invalid;
+    c.trianglesDrawn += gc.drawn;
+    c.trianglesCulled += gc.culled;
+    c.trianglesClipped += gc.clipped;
+    c.primitivesInvalid += gc.invalid;
 
-    m.tris.resize(chunk.tris.size());
+    job.tris.resize(chunk.tris.size());
     for (size_t i = 0; i < chunk.tris.size(); ++i) {
         const SetupTriangle& s = chunk.tris[i];
-        ProgramTriangle& t = m.tris[i];
+        ProgramTriangle& t = job.tris[i];
         t.A = s.A;
         t.B = s.B;
         t.C = s.C;
@@ -872,71 +987,81 @@ void ProgrammableDevice::finishDraw(ProgramPrimitive primitive, std::span<const 
                                            : reinterpret_cast<const float*>(chunk.texPlanes.data() + s.texPlanes);
     }
 
-    // ---- rasterization ------------------------------------------------------------------
-    if (m.options.path == Path::Reference) {
+    if (options.path == Path::Fast) {
+        const int tilesX = (width + kTileSize - 1) >> kTileShift;
+        const int tilesY = (height + kTileSize - 1) >> kTileShift;
+        binChunk(chunk, tilesX, tilesY);
+    }
+}
+
+// The pixels of the draws `jobs`, set up, in issue order: on the reference path triangle
+// by triangle; on the fast path tile by tile, each tile's triangles of every draw in draw
+// and triangle order, the tiles on the threads.
+void ProgrammableDevice::Impl::rasterize(std::span<detail::DrawJob* const> jobs) {
+    using namespace detail;
+    for (const DrawJob* j : jobs) counters.add(j->counters);
+    if (options.path == Path::Reference) {
         ProgramCounters c;
-        for (const ProgramTriangle& t : m.tris) reference(kernel, t, 0, 0, 0, 0, c);
-        m.counters.add(c);
+        for (DrawJob* j : jobs)
+            for (const ProgramTriangle& t : j->tris) j->reference(j->kernel, t, 0, 0, 0, 0, c);
+        counters.add(c);
         return;
     }
-    const int tilesX = (m.width + kTileSize - 1) >> kTileShift;
-    const int tilesY = (m.height + kTileSize - 1) >> kTileShift;
-    binChunk(chunk, tilesX, tilesY);
+    const int tilesX = (width + kTileSize - 1) >> kTileShift;
+    const int tilesY = (height + kTileSize - 1) >> kTileShift;
     const int tiles = tilesX * tilesY;
-    if (m.arena->max_concurrency() <= 1) {
-        m.tileCounters.assign(size_t(tiles), ProgramCounters{});
+    auto shade = [&](int tile, int x0, int y0, int x1, int y1, ProgramCounters& c) {
+        for (DrawJob* j : jobs) {
+            const TriangleChunk& chunk = j->chunk;
+            for (uint32_t b = chunk.binStart[size_t(tile)]; b < chunk.binStart[size_t(tile) + 1]; ++b)
+                j->fast(j->kernel, j->tris[chunk.binItems[b]], x0, y0, x1, y1, c);
+        }
+    };
+    if (arena->max_concurrency() <= 1) {
+        ProgramCounters c;
         for (int tile = 0; tile < tiles; ++tile) {
             const int x0 = (tile % tilesX) << kTileShift, y0 = (tile / tilesX) << kTileShift;
-            const int x1 = std::min(m.width, x0 + kTileSize) - 1, y1 = std::min(m.height, y0 + kTileSize) - 1;
-            ProgramCounters& c = m.tileCounters[size_t(tile)];
-            for (uint32_t b = chunk.binStart[size_t(tile)]; b < chunk.binStart[size_t(tile) + 1]; ++b)
-                fast(kernel, m.tris[chunk.binItems[b]], x0, y0, x1, y1, c);
+            const int x1 = std::min(width, x0 + kTileSize) - 1, y1 = std::min(height, y0 + kTileSize) - 1;
+            shade(tile, x0, y0, x1, y1, c);
         }
-    } else {
-        // The tiles holding triangles, each one task; where there are fewer than four per
-        // thread (a small mesh: one chess piece covers one to four tiles), each is run as its
-        // sixteen 16² parts, so that the draw still spreads over the threads (the impostor
-        // pieces' glass on two threads: 1.34× at best with whole tiles, 1.69× with 32²
-        // quarters, 1.93× with 16² parts, from each draw's pixels). Any split into
-        // rectangles of even origin gives the same bytes: no quad straddles one, a pixel's
-        // fragments are merged in primitive order within its rectangle, and the counters
-        // add up (ProgrammablePathsAgree compares every thread count with the reference).
-        std::vector<int>& busy = m.busyTiles;
-        busy.clear();
-        for (int tile = 0; tile < tiles; ++tile)
-            if (chunk.binStart[size_t(tile) + 1] > chunk.binStart[size_t(tile)]) busy.push_back(tile);
-        const int split = int(busy.size()) < 4 * m.arena->max_concurrency() ? 4 : 1;  // per axis
-        const int parts = split * split;
-        const int tasks = int(busy.size()) * parts;
-        m.tileCounters.assign(size_t(tasks), ProgramCounters{});
-        auto runPart = [&](int task) {
-            const int tile = busy[size_t(task / parts)], part = task % parts;
-            int x0 = (tile % tilesX) << kTileShift, y0 = (tile / tilesX) << kTileShift;
-            int x1 = std::min(m.width, x0 + kTileSize) - 1, y1 = std::min(m.height, y0 + kTileSize) - 1;
-            if (split > 1) {
-                const int size = kTileSize / split;
-                x0 += (part % split) * size;
-                y0 += (part / split) * size;
-                x1 = std::min(x1, x0 + size - 1);
-                y1 = std::min(y1, y0 + size - 1);
-                if (x0 > x1 || y0 > y1) return;
-            }
-            ProgramCounters& c = m.tileCounters[size_t(task)];
-            for (uint32_t b = chunk.binStart[size_t(tile)]; b < chunk.binStart[size_t(tile) + 1]; ++b)
-                fast(kernel, m.tris[chunk.binItems[b]], x0, y0, x1, y1, c);
-        };
-        [[maybe_unused]] int forkJoin = 0;
-        RG_TSAN_RELEASE(&forkJoin);
-        m.arena->execute([&] {
-            tbb::parallel_for(tbb::blocked_range<int>(0, tasks, 1), [&](const tbb::blocked_range<int>& r) {
-                RG_TSAN_ACQUIRE(&forkJoin);
-                for (int t = r.begin(); t < r.end(); ++t) runPart(t);
-                RG_TSAN_RELEASE(&forkJoin);
-            });
-        });
-        RG_TSAN_ACQUIRE(&forkJoin);
+        counters.add(c);
+        return;
     }
-    for (const ProgramCounters& c : m.tileCounters) m.counters.add(c);
+    // The tiles holding triangles, each one task; where there are fewer than four per
+    // thread (a small mesh: one chess piece covers one to four tiles), each is run as its
+    // sixteen 16² parts, so that the draw still spreads over the threads (the impostor
+    // pieces' glass on two threads: 1.34× at best with whole tiles, 1.69× with 32²
+    // quarters, 1.93× with 16² parts, from each draw's pixels). Any split into
+    // rectangles of even origin gives the same bytes: no quad straddles one, a pixel's
+    // fragments are merged in primitive order within its rectangle, and the counters
+    // add up (ProgrammablePathsAgree compares every thread count with the reference).
+    std::vector<int>& busy = busyTiles;
+    busy.clear();
+    for (int tile = 0; tile < tiles; ++tile)
+        for (const DrawJob* j : jobs)
+            if (j->chunk.binStart[size_t(tile) + 1] > j->chunk.binStart[size_t(tile)]) {
+                busy.push_back(tile);
+                break;
+            }
+    const int split = int(busy.size()) < 4 * arena->max_concurrency() ? 4 : 1;  // per axis
+    const int parts = split * split;
+    const size_t tasks = busy.size() * size_t(parts);
+    tileCounters.assign(tasks, ProgramCounters{});
+    parallel(tasks, 1, [&](size_t task) {
+        const int tile = busy[task / size_t(parts)], part = int(task % size_t(parts));
+        int x0 = (tile % tilesX) << kTileShift, y0 = (tile / tilesX) << kTileShift;
+        int x1 = std::min(width, x0 + kTileSize) - 1, y1 = std::min(height, y0 + kTileSize) - 1;
+        if (split > 1) {
+            const int size = kTileSize / split;
+            x0 += (part % split) * size;
+            y0 += (part / split) * size;
+            x1 = std::min(x1, x0 + size - 1);
+            y1 = std::min(y1, y0 + size - 1);
+            if (x0 > x1 || y0 > y1) return;
+        }
+        shade(tile, x0, y0, x1, y1, tileCounters[task]);
+    });
+    for (const ProgramCounters& c : tileCounters) counters.add(c);
 }
 
 }  // namespace rg::raster

@@ -729,6 +729,9 @@ void ImpostorRenderer::renderImpostor(const ImpostorSettings& s, int i, const st
         device_.setRenderTargets({&ct, 1}, DepthTarget{cubeDepth_});
         device_.clearColor(0, glm::vec4(0.0f, 0.0f, 0.0f, kSkyDistance));
         device_.clearDepth(1.0f);
+        // A face's draws as one batch (one fork and join); the impostors they read are
+        // other pieces' (a piece is never drawn into its own), finished before it.
+        raster::ProgramBatch batch(device_);
         drawSurroundings(v, true, moverShadow);
         for (size_t j = 0; j < glass_.size(); ++j) {
             if (int(j) == i) continue;  // a piece is never drawn into its own impostor
@@ -738,6 +741,7 @@ void ImpostorRenderer::renderImpostor(const ImpostorSettings& s, int i, const st
             // static objects through their static ones).
             drawGlass(v, s, int(j), impostors_[j], false, false, true);
         }
+        batch.end();
     }
 }
 
@@ -754,7 +758,9 @@ void ImpostorRenderer::buildImpostors(const ImpostorSettings& s, Content content
             device_.setRenderTargets({&ct, 1}, DepthTarget{cubeDepth_});
             device_.clearColor(0, glm::vec4(0.0f, 0.0f, 0.0f, kSkyDistance));
             device_.clearDepth(1.0f);
+            raster::ProgramBatch batch(device_);
             drawSurroundings(v, true, withMover);
+            batch.end();
         }
         f.impostorTexels += 6 * int64_t(s.envSize) * s.envSize;
     }
@@ -894,7 +900,9 @@ ImpostorFrame ImpostorRenderer::render(const ray::Camera& camera, const Impostor
         device_.setRenderTargets(cts, DepthTarget{frameDepth_});
         for (int t = 0; t < int(cts.size()); ++t) device_.clearColor(t, glm::vec4(0.0f, 0.0f, 0.0f, t == 0 ? 1.0f : 0.0f));
         device_.clearDepth(1.0f);
+        raster::ProgramBatch batch(device_);
         drawSurroundings(v, false, true);
+        batch.end();
     });
     pass(std::string("frame: glass (") + modeName(s.mode) + ")", [&] {
         // Nearest first, so the early depth test skips what later objects would overwrite.
@@ -906,6 +914,7 @@ ImpostorFrame ImpostorRenderer::render(const ray::Camera& camera, const Impostor
         std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist[size_t(a)] < dist[size_t(b)]; });
         lastGlassOrder_.clear();
         lastViewProj_ = v.viewProj;
+        raster::ProgramBatch batch(device_);  // every piece's glass, one fork and join
         for (int i : order) {
             if (!visible(v, glass_[size_t(i)].world)) continue;
             lastGlassOrder_.push_back(i);
@@ -917,6 +926,7 @@ ImpostorFrame ImpostorRenderer::render(const ray::Camera& camera, const Impostor
             drawGlass(v, s, i, separated && isMover ? moverImpostor_ : impostors_[size_t(i)], separated && !isMover,
                       s.diagnostics, false);
         }
+        batch.end();
         frame.glassFragments = int64_t(device_.counters().fragmentInvocations);
         frame.fetchesPerGlassFragment = device_.counters().meanFetchesPerFragment();
     });

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <span>
 #include <type_traits>
@@ -612,6 +613,47 @@ struct ProgramKernel {
 using TriangleKernelFn = void (*)(void* self, const ProgramTriangle& t, int rx0, int ry0,
                                   int rx1, int ry1, ProgramCounters& c);
 
+// One vertex after the vertex program.
+struct ProgramVertex {
+    glm::vec4 clip{0.0f};
+    Varyings varyings{};
+};
+
+// A draw's vertex stage with its types erased, so that the device can run it now or, in a
+// batch, later and on another thread: the vertex program over vertices [b, e).
+using VertexStageFn = void (*)(const void* self, size_t b, size_t e, ProgramVertex* out, VertexContext* fetch);
+
+template <class VP, class V>
+struct VertexStage {
+    static constexpr bool kFetches = requires(const VP& p, const V& v, Varyings& o, VertexContext& t) { p(v, o, t); };
+    const VP* vp;
+    const V* vertices;
+    static void run(const void* self, size_t b, size_t e, ProgramVertex* out, VertexContext* fetch) {
+        const auto& s = *static_cast<const VertexStage*>(self);
+        for (size_t i = b; i < e; ++i) {
+            if constexpr (kFetches)
+                out[i].clip = (*s.vp)(s.vertices[i], out[i].varyings, *fetch);
+            else
+                out[i].clip = (*s.vp)(s.vertices[i], out[i].varyings);
+        }
+    }
+};
+
+// A batched draw's own copies of its programs (the caller's may be gone by endBatch), with
+// the vertex stage and the kernel pointing at them.
+struct HeldPrograms {
+    virtual ~HeldPrograms() = default;
+};
+template <class VP, class FP, class V>
+struct HeldProgramsOf final : HeldPrograms {
+    VP vp;
+    FP fp;
+    VertexStage<VP, V> stage;
+    ProgramKernel<FP> kernel;
+    HeldProgramsOf(const VP& v, const FP& f, const V* vertices, const ProgramDraw* d)
+        : vp(v), fp(f), stage{&vp, vertices}, kernel{&fp, d} {}
+};
+
 // The key a draw's (vertex program, fragment program, vertex) types are registered under
 // (program_registry.h) and recorded by.
 template <class VP, class FP, class V>
@@ -626,12 +668,6 @@ std::span<const uint8_t> recordedBytes(const T& object) {
     else
         return {reinterpret_cast<const uint8_t*>(&object), sizeof(T)};
 }
-
-// One vertex after the vertex program.
-struct ProgramVertex {
-    glm::vec4 clip{0.0f};
-    Varyings varyings{};
-};
 
 }  // namespace detail
 
@@ -688,14 +724,31 @@ class ProgrammableDevice {
     void clearDepth(float value);
     const ProgramCounters& counters() const;
 
+    // ---- batches -----------------------------------------------------------------------------
+    // Between beginBatch() and endBatch() draws are checked and recorded as they are issued
+    // but not run: endBatch runs the vertex stage, clip and setup of every queued draw (the
+    // draws shared over the threads), bins all their triangles into the tiles and shades
+    // each tile's triangles in the order the draws were issued, with one fork and join for
+    // the whole batch instead of one per draw (llvmpipe defers a frame's draws to its
+    // scene the same way). The pixels and counters are those of drawing one by one: a
+    // pixel's fragments still meet the output merger in primitive order (tests/programmable,
+    // ProgrammableBatch). A batched draw keeps copies of its programs, of the state and of
+    // the texture bindings; the caller keeps each draw's vertices and indices, and the
+    // contents of every texture a draw reads, unchanged until endBatch, and reads the
+    // targets only after it. Inside a batch, changing the targets, clearing, attaching a
+    // recorder, beginFrame, setPath, setThreads and a second beginBatch are errors
+    // (InvalidState). The destructor runs a batch left open.
+    void beginBatch();
+    void endBatch();
+    bool batching() const { return batching_; }
+
     template <class VP, class FP, class V>
     void draw(const VP& vp, const FP& fp, ProgramPrimitive primitive, std::span<const V> vertices,
               std::span<const uint32_t> indices = {}) {
         static_assert(VP::kVaryings == FP::kVaryings, "vertex and fragment programs disagree on kVaryings");
         static_assert(FP::kVaryings >= 0 && FP::kVaryings <= kMaxVaryings, "too many varyings");
         constexpr uint32_t kVertexUnits = detail::vertexUnitsOf<VP>();
-        constexpr bool kFetches = requires(const VP& p, const V& v, Varyings& o, VertexContext& t) { p(v, o, t); };
-        static_assert(kFetches == (kVertexUnits != 0),
+        static_assert(detail::VertexStage<VP, V>::kFetches == (kVertexUnits != 0),
                       "a vertex program that takes a VertexContext declares kVertexUnits, and one that "
                       "declares kVertexUnits takes a VertexContext");
         detail::ProgramDraw& d = beginDraw(FP::kVaryings, FP::kTargets, FP::kUnits, primitive,
@@ -705,37 +758,35 @@ class ProgrammableDevice {
                        detail::recordedBytes(fp), FP::kUnits | kVertexUnits, primitive,
                        {reinterpret_cast<const uint8_t*>(vertices.data()), vertices.size_bytes()},
                        uint32_t(sizeof(V)), indices);
-        std::vector<detail::ProgramVertex>& out = vertexScratch(vertices.size());
-        if constexpr (kFetches) {
-            // Vertex texture fetch: each range counts its texels, the counts are summed
-            // (integers: the total does not depend on the split).
-            const VertexContext::Setup setup = vertexFetchSetup(kVertexUnits);
-            forEachVertexRange(vertices.size(), [&](size_t b, size_t e) {
-                VertexContext t(setup);
-                for (size_t i = b; i < e; ++i) out[i].clip = vp(vertices[i], out[i].varyings, t);
-                addVertexFetches(t.fetches());
-            });
+        const DrawPrograms programs{&detail::VertexStage<VP, V>::run, &detail::ProgramKernel<FP>::runQuads,
+                                    &detail::ProgramKernel<FP>::runPixels};
+        if (batching_) {
+            auto held = std::make_unique<detail::HeldProgramsOf<VP, FP, V>>(vp, fp, vertices.data(), &d);
+            const void* stage = &held->stage;
+            void* kernel = &held->kernel;
+            submitDraw(programs, stage, kernel, std::move(held));
         } else {
-            forEachVertexRange(vertices.size(), [&](size_t b, size_t e) {
-                for (size_t i = b; i < e; ++i) out[i].clip = vp(vertices[i], out[i].varyings);
-            });
+            const detail::VertexStage<VP, V> stage{&vp, vertices.data()};
+            detail::ProgramKernel<FP> kernel{&fp, &d};
+            submitDraw(programs, &stage, &kernel, nullptr);
         }
-        detail::ProgramKernel<FP> kernel{&fp, &d};
-        finishDraw(primitive, indices, &detail::ProgramKernel<FP>::runQuads,
-                   &detail::ProgramKernel<FP>::runPixels, &kernel);
     }
 
   private:
+    struct DrawPrograms {
+        detail::VertexStageFn vertices;
+        detail::TriangleKernelFn fast, reference;
+    };
+    // Checks a draw against the state and fills the draw being issued (in a batch, the next
+    // queued one, with its own copy of the bindings); returns its ProgramDraw.
     detail::ProgramDraw& beginDraw(int varyings, uint32_t targets, uint32_t units,
                                    ProgramPrimitive primitive, size_t vertexCount,
                                    std::span<const uint32_t> indices, uint32_t vertexUnits = 0);
-    VertexContext::Setup vertexFetchSetup(uint32_t vertexUnits) const;
-    void addVertexFetches(uint64_t n);  // thread-safe
-    std::vector<detail::ProgramVertex>& vertexScratch(size_t n);
-    void forEachVertexRange(size_t n, const std::function<void(size_t, size_t)>& body);
-    void finishDraw(ProgramPrimitive primitive, std::span<const uint32_t> indices,
-                    detail::TriangleKernelFn fast, detail::TriangleKernelFn reference,
-                    void* kernel);
+    // Runs the draw begun by beginDraw now, or queues it in a batch (`held` owns the
+    // programs `stage` and `kernel` point into).
+    void submitDraw(const DrawPrograms& programs, const void* stage, void* kernel,
+                    std::unique_ptr<detail::HeldPrograms> held);
+    void requireNoBatch(const char* what) const;
     void recordDraw(std::type_index program, std::span<const uint8_t> vertexProgram,
                     std::span<const uint8_t> fragmentProgram, uint32_t units, ProgramPrimitive primitive,
                     std::span<const uint8_t> vertices, uint32_t stride, std::span<const uint32_t> indices);
@@ -743,6 +794,29 @@ class ProgrammableDevice {
     struct Impl;
     std::unique_ptr<Impl> impl_;
     std::shared_ptr<TraceRecorder> recorder_;  // here, not in Impl: draw() tests it inline
+    bool batching_ = false;                    // the same
+};
+
+// A batch for a scope: beginBatch at construction, end() runs it. The destructor runs a
+// batch end() did not (the scope left by an exception: the draws issued are not lost) and
+// drops any error from it, as the device's destructor does.
+class ProgramBatch {
+  public:
+    explicit ProgramBatch(ProgrammableDevice& device) : device_(device) { device_.beginBatch(); }
+    ~ProgramBatch() {
+        if (device_.batching()) {
+            try {
+                device_.endBatch();
+            } catch (const std::exception&) {
+            }
+        }
+    }
+    ProgramBatch(const ProgramBatch&) = delete;
+    ProgramBatch& operator=(const ProgramBatch&) = delete;
+    void end() { device_.endBatch(); }
+
+  private:
+    ProgrammableDevice& device_;
 };
 
 }  // namespace rg::raster
