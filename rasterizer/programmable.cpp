@@ -438,7 +438,8 @@ struct DrawJob {
     uint32_t vertexUnits = 0;
     VertexStageFn runVertices = nullptr;
     const void* stage = nullptr;
-    TriangleKernelFn fast = nullptr, reference = nullptr;
+    TrianglesKernelFn fast = nullptr;
+    TriangleKernelFn reference = nullptr;
     void* kernel = nullptr;
     std::unique_ptr<HeldPrograms> held;
     // The setup's output.
@@ -1013,8 +1014,8 @@ void ProgrammableDevice::Impl::rasterize(std::span<detail::DrawJob* const> jobs)
     auto shade = [&](int tile, int x0, int y0, int x1, int y1, ProgramCounters& c) {
         for (DrawJob* j : jobs) {
             const TriangleChunk& chunk = j->chunk;
-            for (uint32_t b = chunk.binStart[size_t(tile)]; b < chunk.binStart[size_t(tile) + 1]; ++b)
-                j->fast(j->kernel, j->tris[chunk.binItems[b]], x0, y0, x1, y1, c);
+            const uint32_t b = chunk.binStart[size_t(tile)], e = chunk.binStart[size_t(tile) + 1];
+            if (e > b) j->fast(j->kernel, j->tris.data(), chunk.binItems.data() + b, e - b, x0, y0, x1, y1, c);
         }
     };
     if (arena->max_concurrency() <= 1) {

@@ -352,9 +352,10 @@ constexpr bool kIsGroupProgram = kIsQuadProgram<FP> &&
 
 // The quads of a group through the program at once: what shadeQuadLanes does to each, in
 // the same order for everything outside the program (the quads' pixels are distinct, so
-// early tests before the other quads' depth writes see the same values).
+// early tests before the other quads' depth writes see the same values). Quad i belongs
+// to triangle *ts[i]: a group may gather the quads of several small triangles.
 template <class FP, int N, class Group>
-inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const ProgramTriangle& t,
+inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const std::array<const ProgramTriangle*, N>& ts,
                            const std::array<QuadVaryings, N>& q, const std::array<std::array<float, 4>, N>& iw,
                            const std::array<uint32_t, N>& mask, const std::array<int, N>& qx,
                            const std::array<int, N>& qy, Group& g, ProgramCounters& c) {
@@ -362,8 +363,8 @@ inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const ProgramTria
     float zStore[N][4];
     uint32_t run = 0;
     for (int i = 0; i < N; ++i)
-        run |= beginQuadLanes(d, t, q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qx[size_t(i)], qy[size_t(i)],
-                              g.quad(i), zStore[i], c);
+        run |= beginQuadLanes(d, *ts[size_t(i)], q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qx[size_t(i)],
+                              qy[size_t(i)], g.quad(i), zStore[i], c);
     if (!run) return;
     g.beginGroup();
     fp(g);
@@ -414,7 +415,8 @@ struct ProgramKernel {
     const FP* fp;
     const ProgramDraw* d;
 
-    // Fast path: the quads of triangle t inside the inclusive rectangle (a tile).
+    // Fast path, a program other than a group program: the quads of triangle t inside the
+    // inclusive rectangle (a tile).
     static void runQuads(void* self, const ProgramTriangle& t, int rx0, int ry0, int rx1,
                          int ry1, ProgramCounters& c) {
         const auto& k = *static_cast<const ProgramKernel*>(self);
@@ -422,13 +424,6 @@ struct ProgramKernel {
         const int x0 = std::max(rx0, t.minX), x1 = std::min(rx1, t.maxX);
         const int y0 = std::max(ry0, t.minY), y1 = std::min(ry1, t.maxY);
         if (x0 > x1 || y0 > y1) return;
-        if constexpr (kIsGroupProgram<FP>) {
-            if (programAvx2())
-                runQuadGroupsAvx2(k, t, x0, y0, x1, y1, c);
-            else
-                runQuadGroups(k, t, x0, y0, x1, y1, c);
-            return;
-        }
         QuadVaryings q;
         std::array<float, 4> iw;
         std::conditional_t<kIsQuadProgram<FP>, QuadContext, FragmentContext> f;
@@ -445,6 +440,23 @@ struct ProgramKernel {
                             shadeFragment(*k.fp, d, t, q, iw, p, qx + (p & 1), qy + (p >> 1), f, c);
                 }
             }
+    }
+
+    // Fast path: the quads of triangles items[0 .. count) of `tris` (tris[0 .. count) when
+    // items is null), in that order, inside the inclusive rectangle. A group program's
+    // groups gather quads across the triangles (runQuadGroups); any other program runs
+    // triangle by triangle.
+    static void runTriangles(void* self, const ProgramTriangle* tris, const uint32_t* items, uint32_t count,
+                             int rx0, int ry0, int rx1, int ry1, ProgramCounters& c) {
+        if constexpr (kIsGroupProgram<FP>) {
+            const auto& k = *static_cast<const ProgramKernel*>(self);
+            if (programAvx2())
+                runQuadGroupsAvx2(k, tris, items, count, rx0, ry0, rx1, ry1, c);
+            else
+                runQuadGroups(k, tris, items, count, rx0, ry0, rx1, ry1, c);
+        } else {
+            for (uint32_t i = 0; i < count; ++i) runQuads(self, tris[items ? items[i] : i], rx0, ry0, rx1, ry1, c);
+        }
     }
 
     // The covered pixels of the quad at (qx, qy) inside the inclusive rectangle, bit p for
@@ -465,18 +477,25 @@ struct ProgramKernel {
     // copies — and SSE4.1's inserts and extracts for the texel loads. No FMA (target
     // "avx2" alone, and -ffp-contract=off): every operation is the one of the SSE2 build.
     [[gnu::target("avx2"), gnu::flatten]] static void runQuadGroupsAvx2(const ProgramKernel& k,
-                                                                     const ProgramTriangle& t, int x0, int y0,
-                                                                     int x1, int y1, ProgramCounters& c) {
-        runQuadGroups<QuadGroupWideContext<kWideGroupQuads>>(k, t, x0, y0, x1, y1, c);
+                                                                     const ProgramTriangle* tris,
+                                                                     const uint32_t* items, uint32_t count,
+                                                                     int rx0, int ry0, int rx1, int ry1,
+                                                                     ProgramCounters& c) {
+        runQuadGroups<QuadGroupWideContext<kWideGroupQuads>>(k, tris, items, count, rx0, ry0, rx1, ry1, c);
     }
 
-    // runQuads for a group program: covered quads in the same order, kGroupQuads at a time;
-    // a last incomplete group runs quad by quad. Coverage steps the edge functions along
-    // each row of quads (the integers covers() computes, exactly), and the counters add up
-    // locally.
+    // runTriangles for a group program: each triangle's covered quads in the same order,
+    // kGroupQuads at a time, the groups gathered across the triangles — the chess pieces'
+    // triangles cover a quad or two each, so groups of one triangle's quads were mostly
+    // left over and ran in pairs. A quad whose pixels meet a pending quad's (an earlier,
+    // overlapping triangle's) first runs the pending ones, so every pixel's fragments still
+    // meet the depth test and the output merger in triangle order; a group's quads are then
+    // always distinct pixels, as shadeQuadGroup needs. The last incomplete group runs quad
+    // by quad (SSE2) or in pairs (AVX2). Coverage steps the edge functions along each row
+    // of quads (the integers covers() computes, exactly), and the counters add up locally.
     template <class Group = QuadGroupContext<kGroupQuads>>
-    static void runQuadGroups(const ProgramKernel& k, const ProgramTriangle& t, int x0, int y0, int x1,
-                              int y1, ProgramCounters& counters) {
+    static void runQuadGroups(const ProgramKernel& k, const ProgramTriangle* tris, const uint32_t* items,
+                              uint32_t count, int rx0, int ry0, int rx1, int ry1, ProgramCounters& counters) {
         constexpr int N = Group::kQuads;
         constexpr bool kWide = std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>;
         const ProgramDraw& d = *k.d;
@@ -485,81 +504,103 @@ struct ProgramKernel {
         std::array<std::array<float, 4>, N> iw;
         std::array<uint32_t, N> mask{};
         std::array<int, N> qxs{}, qys{};
+        std::array<const ProgramTriangle*, N> ts{};
         Group g;
         int pending = 0;
+        auto runPending = [&] {
+            if constexpr (kWide)
+                shadeQuadPairs<N>(*k.fp, d, ts, q, iw, mask, qxs, qys, pending, c);
+            else
+                for (int i = 0; i < pending; ++i)
+                    shadeQuadLanes(*k.fp, d, *ts[size_t(i)], q[size_t(i)], iw[size_t(i)], mask[size_t(i)],
+                                   qxs[size_t(i)], qys[size_t(i)], g.quad(i), c);
+            pending = 0;
+        };
         const int s = d.subpixelBits;
         const int64_t half = int64_t{1} << (s - 1);
-        // Edge e at the quad's pixel p: E + off[e][p]; E steps by 2·A per quad along a row.
-        int64_t off[3][4], stepX[3];
-        for (int e = 0; e < 3; ++e) {
-            const int64_t a = t.A[size_t(e)] << s, b = t.B[size_t(e)] << s;
-            off[e][0] = 0;
-            off[e][1] = a;
-            off[e][2] = b;
-            off[e][3] = a + b;
-            stepX[e] = 2 * a;
-        }
-        for (int qy = y0 & ~1; qy <= y1; qy += 2) {
-            const uint32_t rows = (qy >= y0 ? 3u : 0u) | (qy + 1 <= y1 ? 12u : 0u);
-            const int64_t Y = (int64_t(qy) << s) + half;
-            // The quads of the row that can be covered: an edge's largest value over a
-            // quad's pixels must be ≥ 0. In double with a quad's margin, so the range only
-            // skips quads the exact test below would reject.
-            int qxa = x0 & ~1, qxb = x1;
-            for (int e = 0; e < 3 && qxa <= qxb; ++e) {
-                const int64_t a = t.A[size_t(e)], b = t.B[size_t(e)];
-                const double rowBest = double(t.C[size_t(e)] + b * (Y + (b > 0 ? (int64_t{1} << s) : 0)));
-                if (a == 0) {
-                    if (rowBest < 0.0) qxa = qxb + 1;
-                    continue;
-                }
-                // Largest value at quad qx: rowBest + a·X(qx + (a > 0)), X(px) = (px << s) + half.
-                const double px = -(rowBest + double(a) * double(half)) / double(a * (int64_t{1} << s));
-                if (a > 0) {  // value grows with x: quads from x ≥ px − 1
-                    const double lo = std::floor(px) - 3.0;
-                    if (lo > double(qxa)) qxa = lo > double(qxb) ? qxb + 1 : int(lo) & ~1;
-                } else {  // quads up to px
-                    const double hi = std::ceil(px) + 3.0;
-                    if (hi < double(qxb)) qxb = hi < double(qxa) ? qxa - 1 : int(hi);
-                }
+        for (uint32_t ti = 0; ti < count; ++ti) {
+            const ProgramTriangle& t = tris[items ? items[ti] : ti];
+            const int x0 = std::max(rx0, t.minX), x1 = std::min(rx1, t.maxX);
+            const int y0 = std::max(ry0, t.minY), y1 = std::min(ry1, t.maxY);
+            if (x0 > x1 || y0 > y1) continue;
+            // Pending quads of earlier triangles: [0, earlier). This triangle's own quads are
+            // distinct and need no check.
+            int earlier = pending;
+            // Edge e at the quad's pixel p: E + off[e][p]; E steps by 2·A per quad along a row.
+            int64_t off[3][4], stepX[3];
+            for (int e = 0; e < 3; ++e) {
+                const int64_t a = t.A[size_t(e)] << s, b = t.B[size_t(e)] << s;
+                off[e][0] = 0;
+                off[e][1] = a;
+                off[e][2] = b;
+                off[e][3] = a + b;
+                stepX[e] = 2 * a;
             }
-            const int qx0 = qxa & ~1;
-            const int64_t X = (int64_t(qx0) << s) + half;
-            int64_t E[3];
-            for (int e = 0; e < 3; ++e) E[e] = t.C[size_t(e)] + t.A[size_t(e)] * X + t.B[size_t(e)] * Y;
-            int64_t Ep[3][4];  // the AVX2 kernel's form of E + off
-            if constexpr (kWide)
-                for (int e = 0; e < 3; ++e)
-                    for (int p = 0; p < 4; ++p) Ep[e][p] = E[e] + off[e][p];
-            for (int qx = qx0; qx <= qxb; qx += 2) {
-                uint32_t m = 0;
-                if constexpr (kWide) {
-                    m = quadCoverageStepAvx2(Ep, stepX);
-                } else {
-                    for (int p = 0; p < 4; ++p) {
-                        const int64_t all = (E[0] + off[0][p]) | (E[1] + off[1][p]) | (E[2] + off[2][p]);
-                        m |= uint32_t(all >= 0) << p;  // every edge ≥ 0
+            for (int qy = y0 & ~1; qy <= y1; qy += 2) {
+                const uint32_t rows = (qy >= y0 ? 3u : 0u) | (qy + 1 <= y1 ? 12u : 0u);
+                const int64_t Y = (int64_t(qy) << s) + half;
+                // The quads of the row that can be covered: an edge's largest value over a
+                // quad's pixels must be ≥ 0. In double with a quad's margin, so the range only
+                // skips quads the exact test below would reject.
+                int qxa = x0 & ~1, qxb = x1;
+                for (int e = 0; e < 3 && qxa <= qxb; ++e) {
+                    const int64_t a = t.A[size_t(e)], b = t.B[size_t(e)];
+                    const double rowBest = double(t.C[size_t(e)] + b * (Y + (b > 0 ? (int64_t{1} << s) : 0)));
+                    if (a == 0) {
+                        if (rowBest < 0.0) qxa = qxb + 1;
+                        continue;
                     }
-                    for (int e = 0; e < 3; ++e) E[e] += stepX[e];
+                    // Largest value at quad qx: rowBest + a·X(qx + (a > 0)), X(px) = (px << s) + half.
+                    const double px = -(rowBest + double(a) * double(half)) / double(a * (int64_t{1} << s));
+                    if (a > 0) {  // value grows with x: quads from x ≥ px − 1
+                        const double lo = std::floor(px) - 3.0;
+                        if (lo > double(qxa)) qxa = lo > double(qxb) ? qxb + 1 : int(lo) & ~1;
+                    } else {  // quads up to px
+                        const double hi = std::ceil(px) + 3.0;
+                        if (hi < double(qxb)) qxb = hi < double(qxa) ? qxa - 1 : int(hi);
+                    }
                 }
-                m &= rows & ((qx >= x0 ? 5u : 0u) | (qx + 1 <= x1 ? 10u : 0u));
-                if (!m) continue;
-                interpolateQuad(d, t, qx, qy, q[size_t(pending)], iw[size_t(pending)]);
-                mask[size_t(pending)] = m;
-                qxs[size_t(pending)] = qx;
-                qys[size_t(pending)] = qy;
-                if (++pending == N) {
-                    shadeQuadGroup<FP, N, Group>(*k.fp, d, t, q, iw, mask, qxs, qys, g, c);
-                    pending = 0;
+                const int qx0 = qxa & ~1;
+                const int64_t X = (int64_t(qx0) << s) + half;
+                int64_t E[3];
+                for (int e = 0; e < 3; ++e) E[e] = t.C[size_t(e)] + t.A[size_t(e)] * X + t.B[size_t(e)] * Y;
+                int64_t Ep[3][4];  // the AVX2 kernel's form of E + off
+                if constexpr (kWide)
+                    for (int e = 0; e < 3; ++e)
+                        for (int p = 0; p < 4; ++p) Ep[e][p] = E[e] + off[e][p];
+                for (int qx = qx0; qx <= qxb; qx += 2) {
+                    uint32_t m = 0;
+                    if constexpr (kWide) {
+                        m = quadCoverageStepAvx2(Ep, stepX);
+                    } else {
+                        for (int p = 0; p < 4; ++p) {
+                            const int64_t all = (E[0] + off[0][p]) | (E[1] + off[1][p]) | (E[2] + off[2][p]);
+                            m |= uint32_t(all >= 0) << p;  // every edge ≥ 0
+                        }
+                        for (int e = 0; e < 3; ++e) E[e] += stepX[e];
+                    }
+                    m &= rows & ((qx >= x0 ? 5u : 0u) | (qx + 1 <= x1 ? 10u : 0u));
+                    if (!m) continue;
+                    for (int i = 0; i < earlier; ++i)
+                        if (qxs[size_t(i)] == qx && qys[size_t(i)] == qy && (mask[size_t(i)] & m)) {
+                            runPending();
+                            earlier = 0;
+                            break;
+                        }
+                    interpolateQuad(d, t, qx, qy, q[size_t(pending)], iw[size_t(pending)]);
+                    mask[size_t(pending)] = m;
+                    qxs[size_t(pending)] = qx;
+                    qys[size_t(pending)] = qy;
+                    ts[size_t(pending)] = &t;
+                    if (++pending == N) {
+                        shadeQuadGroup<FP, N, Group>(*k.fp, d, ts, q, iw, mask, qxs, qys, g, c);
+                        pending = 0;
+                        earlier = 0;
+                    }
                 }
             }
         }
-        if constexpr (kWide)
-            shadeQuadPairs<N>(*k.fp, d, t, q, iw, mask, qxs, qys, pending, c);
-        else
-            for (int i = 0; i < pending; ++i)
-                shadeQuadLanes(*k.fp, d, t, q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qxs[size_t(i)],
-                               qys[size_t(i)], g.quad(i), c);
+        runPending();
         counters.add(c);
     }
 
@@ -571,7 +612,7 @@ struct ProgramKernel {
     // search is one chain of dependent steps. Each lane computes what it computes alone,
     // and the quads are distinct pixels of one triangle: the same bytes and counts.
     template <int N>
-    static void shadeQuadPairs(const FP& fp, const ProgramDraw& d, const ProgramTriangle& t,
+    static void shadeQuadPairs(const FP& fp, const ProgramDraw& d, const std::array<const ProgramTriangle*, N>& ts,
                                const std::array<QuadVaryings, N>& q, const std::array<std::array<float, 4>, N>& iw,
                                const std::array<uint32_t, N>& mask, const std::array<int, N>& qxs,
                                const std::array<int, N>& qys, int pending, ProgramCounters& c) {
@@ -583,7 +624,8 @@ struct ProgramKernel {
             const std::array<std::array<float, 4>, 2> iw2{iw[a], iw[b]};
             const std::array<uint32_t, 2> m2{mask[a], i + 1 < pending ? mask[b] : 0u};
             const std::array<int, 2> x2{qxs[a], qxs[b]}, y2{qys[a], qys[b]};
-            shadeQuadGroup<FP, 2, QuadGroupWideContext<2>>(fp, d, t, q2, iw2, m2, x2, y2, pair, c);
+            const std::array<const ProgramTriangle*, 2> t2{ts[a], ts[b]};
+            shadeQuadGroup<FP, 2, QuadGroupWideContext<2>>(fp, d, t2, q2, iw2, m2, x2, y2, pair, c);
         }
     }
 
@@ -612,6 +654,10 @@ struct ProgramKernel {
 
 using TriangleKernelFn = void (*)(void* self, const ProgramTriangle& t, int rx0, int ry0,
                                   int rx1, int ry1, ProgramCounters& c);
+// The fast path's: triangles items[0 .. count) of tris (tris[0 .. count) without items)
+// inside the inclusive rectangle, in that order (ProgramKernel::runTriangles).
+using TrianglesKernelFn = void (*)(void* self, const ProgramTriangle* tris, const uint32_t* items, uint32_t count,
+                                   int rx0, int ry0, int rx1, int ry1, ProgramCounters& c);
 
 // One vertex after the vertex program.
 struct ProgramVertex {
@@ -758,7 +804,7 @@ class ProgrammableDevice {
                        detail::recordedBytes(fp), FP::kUnits | kVertexUnits, primitive,
                        {reinterpret_cast<const uint8_t*>(vertices.data()), vertices.size_bytes()},
                        uint32_t(sizeof(V)), indices);
-        const DrawPrograms programs{&detail::VertexStage<VP, V>::run, &detail::ProgramKernel<FP>::runQuads,
+        const DrawPrograms programs{&detail::VertexStage<VP, V>::run, &detail::ProgramKernel<FP>::runTriangles,
                                     &detail::ProgramKernel<FP>::runPixels};
         if (batching_) {
             auto held = std::make_unique<detail::HeldProgramsOf<VP, FP, V>>(vp, fp, vertices.data(), &d);
@@ -775,7 +821,8 @@ class ProgrammableDevice {
   private:
     struct DrawPrograms {
         detail::VertexStageFn vertices;
-        detail::TriangleKernelFn fast, reference;
+        detail::TrianglesKernelFn fast;
+        detail::TriangleKernelFn reference;
     };
     // Checks a draw against the state and fills the draw being issued (in a batch, the next
     // queued one, with its own copy of the bindings); returns its ProgramDraw.
