@@ -288,6 +288,20 @@ detail::LinearFloatCube detail::linearFloatCube(const tex::Texture* texture, con
     return c;
 }
 
+detail::LinearFloat2D detail::linearFloat2D(const tex::Texture* texture, const tex::SamplerState& sampler) {
+    LinearFloat2D c;
+    if (!(texture && texture->isFloat() && !texture->singleChannel() && texture->dims() == 2 &&
+          texture->desc().target != tex::TextureTarget::CubeMap && sampler.magFilter == tex::FilterMode::Linear &&
+          sampler.minFilter == tex::FilterMode::Linear && sampler.mipFilter == tex::MipMode::None &&
+          sampler.address[0] == tex::AddressMode::ClampToEdge && sampler.address[1] == tex::AddressMode::ClampToEdge))
+        return c;
+    const int base = std::clamp(sampler.baseLevel, 0, texture->levels() - 1);
+    c.data = texture->dataF(base, 0);
+    c.width = texture->levelSize(base)[0];
+    c.height = texture->levelSize(base)[1];
+    return c;
+}
+
 // ---- output merger ------------------------------------------------------------------------
 
 namespace detail {
@@ -647,7 +661,8 @@ void ProgrammableDevice::setTexture(int unit, std::shared_ptr<const tex::Texture
     if (texture && !texture->complete())
         throw InvalidState("texture bound to unit " + std::to_string(unit) + " has levels never uploaded");
     const detail::BoundUnit b{texture.get(), sampler, detail::nearestFloat2D(texture.get(), sampler),
-                              detail::linearFloatCube(texture.get(), sampler)};
+                              detail::linearFloatCube(texture.get(), sampler),
+                              detail::linearFloat2D(texture.get(), sampler)};
     impl_->units[size_t(unit)] = b;
     impl_->textures[size_t(unit)] = std::move(texture);
 }

@@ -1,5 +1,5 @@
-// The bilinear float cube-map fetch of the AVX2 kernel (rasterizer/program.h LinearFloatCube,
-// quad_program_wide.h detail::linearCubeFetchAvx2) against the tap-list reference
+// The bilinear float cube-map and 2D fetches of the AVX2 kernel (rasterizer/program.h LinearFloatCube,
+// LinearFloat2D; quad_program_wide.h detail::linearCubeFetchAvx2, linear2DFetchAvx2) against the tap-list reference
 // (tex::programFetch on Path::Reference), bit for bit, over random RGBA16F and RGBA32F cube
 // maps and directions — face ties, ±0, NaN, ±infinity, zero vectors, huge and denormal
 // components and texel edges included, with texels that make the order of the taps' sum
@@ -163,6 +163,140 @@ TEST(ProgramFetch, BilinearCubeFastCaseQualifiesOnlyItsUnits) {
     EXPECT_FALSE(detail::linearFloatCube(rgba.get(), s).valid());
     EXPECT_EQ(detail::linearFloatCube(rgba.get(), linear).size, 4);
     EXPECT_EQ(detail::linearFloatCube(rgba.get(), linear).faceTexels, 16);
+}
+
+// The bilinear float 2D fetch (LinearFloat2D, detail::linear2DFetchAvx2: the impostors'
+// light and caustic maps, read by `sample`) against the tap-list reference at random λ —
+// the fast case has none, so any λ must give its sum — over random RGBA16F and RGBA32F
+// textures of any shape; coordinates on texel edges, outside [0, 1], NaN, ±infinity,
+// huge and denormal.
+TEST(ProgramFetch, Bilinear2DFastFetchMatchesTheTapListBitForBitAtAnyLod) {
+    if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "the AVX2 kernel's fetch needs AVX2";
+    std::mt19937 rng(2008);
+    tex::TextureMemory memory(profile(ProfileId::GeForce8800));
+    const int sizes[] = {1, 2, 3, 5, 8, 16, 33, 64, 256};
+    const float inf = std::numeric_limits<float>::infinity();
+    int compared = 0;
+    for (int tcase = 0; tcase < 60; ++tcase) {
+        tex::TextureDesc d;
+        d.format = (rng() & 1) ? TexelFormat::RGBA16F : TexelFormat::RGBA32F;
+        d.width = sizes[rng() % 9];
+        d.height = sizes[rng() % 9];
+        d.levels = 1 + int(rng() % tex::fullChainLevels(d));
+        auto t = memory.create(d);
+        const bool palette = rng() & 1;
+        for (int l = 0; l < d.levels; ++l) {
+            const auto& sz = t->levelSize(l);
+            const int bpt = tex::formatInfo(d.format).bytesPerTexel;
+            std::vector<uint8_t> b(static_cast<size_t>(sz[0]) * size_t(sz[1]) * size_t(bpt));
+            if (bpt == 8) {
+                for (size_t i = 0; i < b.size() / 2; ++i) {
+                    const uint16_t h = uint16_t(rng() & 0xFBFF);
+                    std::memcpy(&b[i * 2], &h, 2);
+                }
+            } else if (palette) {  // the order of the taps' sum shows (see above)
+                const float values[] = {0x1p100f, -0x1p100f, 1.0f, -1.0f, 0x1p-100f, -0.75f, -0.0f};
+                for (size_t i = 0; i < b.size() / 4; ++i) std::memcpy(&b[i * 4], &values[rng() % 7], 4);
+            } else {
+                for (size_t i = 0; i < b.size() / 4; ++i) {
+                    const int e = int(rng() % 60) - 30;
+                    const float v = (i % 9 == 0) ? -0.0f : std::ldexp(float(int(rng() % 2001) - 1000) / 997.0f, e);
+                    std::memcpy(&b[i * 4], &v, 4);
+                }
+            }
+            memory.upload(*t, l, 0, b);
+        }
+        tex::SamplerState s;  // LINEAR, LINEAR, no mipmaps, CLAMP_TO_EDGE: the fast case
+        s.address = {tex::AddressMode::ClampToEdge, tex::AddressMode::ClampToEdge, tex::AddressMode::Wrap,
+                     tex::AddressMode::Wrap};
+        s.baseLevel = int(rng() % 3);
+        s.lodBias = float(int(rng() % 9) - 4) * 0.5f;
+        const detail::LinearFloat2D fast = detail::linearFloat2D(t.get(), s);
+        ASSERT_TRUE(fast.valid()) << "case " << tcase;
+        const int base = std::min(s.baseLevel, d.levels - 1);
+        auto coordinate = [&](int n) {
+            std::uniform_real_distribution<float> u(-0.5f, 1.5f);
+            switch (rng() % 12) {
+                case 0: return std::numeric_limits<float>::quiet_NaN();
+                case 1: return (rng() & 1) ? inf : -inf;
+                case 2: return (rng() & 1) ? 0.0f : -0.0f;
+                case 3: return (rng() & 1) ? 1.0e-40f : -1.0e-40f;
+                case 4: return (rng() & 1) ? 3.0e38f : -3.0e38f;
+                case 5: case 6: return float(int(rng() % unsigned(n + 1))) / float(n);  // a texel edge
+                case 7: return (float(int(rng() % unsigned(n))) + 0.5f) / float(n);      // a texel centre
+                default: return u(rng);
+            }
+        };
+        for (int rcase = 0; rcase < 20; ++rcase) {
+            alignas(32) float x[16], y[16];
+            alignas(32) int32_t live[16];
+            glm::vec4 want[16];
+            for (int i = 0; i < 16; ++i) {
+                x[i] = coordinate(t->levelSize(base)[0]);
+                y[i] = coordinate(t->levelSize(base)[1]);
+                live[i] = (rng() % 5) ? -1 : 0;
+                uint32_t fetches = 0;
+                const float lod = float(int(rng() % 17) - 8) * 0.75f;
+                want[i] = tex::programFetch(*t, s, glm::vec4(x[i], y[i], 0.25f, 1.0f), tex::programLambdaLod(s, lod),
+                                            Path::Reference, fetches);
+                ASSERT_EQ(fetches, 4u);
+            }
+            alignas(32) float gx[16], gy[16], gz[16], gw[16];
+            detail::linear2DFetchAvx2<2>(fast, x, y, live, gx, gy, gz, gw);
+            for (int i = 0; i < 16; ++i) {
+                const glm::vec4 expect = live[i] ? want[i] : glm::vec4(0.0f);
+                const glm::vec4 got(gx[i], gy[i], gz[i], gw[i]);
+                ASSERT_EQ(std::memcmp(&got, &expect, sizeof got), 0)
+                    << "case " << tcase << "/" << rcase << " lane " << i << ", " << d.width << "x" << d.height
+                    << " at (" << x[i] << ", " << y[i] << "): " << show(got) << " want " << show(expect);
+                ++compared;
+            }
+        }
+    }
+    EXPECT_GT(compared, 15000);
+}
+
+// Only a four-channel float 2D texture with LINEAR filters, no mipmaps and CLAMP_TO_EDGE in
+// s and t takes the fast 2D fetch.
+TEST(ProgramFetch, Bilinear2DFastCaseQualifiesOnlyItsUnits) {
+    tex::TextureMemory memory(profile(ProfileId::GeForce8800));
+    tex::TextureDesc d;
+    d.format = TexelFormat::RGBA32F;
+    d.width = 8;
+    d.height = 4;
+    const auto rgba = memory.createRenderTarget(d);
+    d.format = TexelFormat::R32F;
+    const auto red = memory.createRenderTarget(d);
+    d.format = TexelFormat::RGBA8;
+    const auto bytes = memory.createRenderTarget(d);
+    d.format = TexelFormat::RGBA16F;
+    d.target = tex::TextureTarget::CubeMap;
+    d.width = 4;
+    const auto cube = memory.createRenderTarget(d);
+    tex::SamplerState clamp;
+    clamp.address = {tex::AddressMode::ClampToEdge, tex::AddressMode::ClampToEdge, tex::AddressMode::Wrap,
+                     tex::AddressMode::Wrap};
+    EXPECT_TRUE(detail::linearFloat2D(rgba.get(), clamp).valid());
+    EXPECT_EQ(detail::linearFloat2D(rgba.get(), clamp).width, 8);
+    EXPECT_EQ(detail::linearFloat2D(rgba.get(), clamp).height, 4);
+    EXPECT_FALSE(detail::linearFloat2D(red.get(), clamp).valid());
+    EXPECT_FALSE(detail::linearFloat2D(bytes.get(), clamp).valid());
+    EXPECT_FALSE(detail::linearFloat2D(cube.get(), clamp).valid());
+    tex::SamplerState s = clamp;
+    s.address[0] = tex::AddressMode::Wrap;
+    EXPECT_FALSE(detail::linearFloat2D(rgba.get(), s).valid());
+    s = clamp;
+    s.address[1] = tex::AddressMode::Border;
+    EXPECT_FALSE(detail::linearFloat2D(rgba.get(), s).valid());
+    s = clamp;
+    s.mipFilter = tex::MipMode::Linear;
+    EXPECT_FALSE(detail::linearFloat2D(rgba.get(), s).valid());
+    s = clamp;
+    s.magFilter = FilterMode::Nearest;
+    EXPECT_FALSE(detail::linearFloat2D(rgba.get(), s).valid());
+    s = clamp;
+    s.minFilter = FilterMode::Nearest;
+    EXPECT_FALSE(detail::linearFloat2D(rgba.get(), s).valid());
 }
 
 }  // namespace

@@ -218,11 +218,24 @@ struct LinearFloatCube {
     bool valid() const { return data != nullptr; }
 };
 
+// The same for a four-channel float 2D texture whose sampler also has CLAMP_TO_EDGE in s
+// and t: the base level's 2×2 footprint at (s, t) whatever λ, so an implicit-derivative
+// fetch (`sample`) needs no λ either. The impostors' light and caustic maps are read this
+// way, several times per board fragment; the AVX2 kernel's fetch
+// (quad_program_wide.h: detail::linear2DFetchAvx2) gives the tap-list reference's sum bit
+// for bit (tests/programmable/test_cube_lanes.cpp).
+struct LinearFloat2D {
+    const glm::vec4* data = nullptr;  // base level; null: not this case
+    int width = 0, height = 0;
+    bool valid() const { return data != nullptr; }
+};
+
 struct BoundUnit {
     const tex::Texture* texture = nullptr;
     tex::SamplerState sampler;
     NearestFloat2D nearest;
     LinearFloatCube cube;
+    LinearFloat2D linear2D;
 };
 
 }  // namespace detail

@@ -325,6 +325,8 @@ inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const ProgramTria
 NearestFloat2D nearestFloat2D(const tex::Texture* texture, const tex::SamplerState& sampler);
 // The bilinear float cube-map case of a unit (LinearFloatCube; not valid() otherwise).
 LinearFloatCube linearFloatCube(const tex::Texture* texture, const tex::SamplerState& sampler);
+// The bilinear float 2D case of a unit (LinearFloat2D; not valid() otherwise).
+LinearFloat2D linearFloat2D(const tex::Texture* texture, const tex::SamplerState& sampler);
 
 // The CPU runs AVX2 and RETROGLASS_NO_AVX2 is not set (which keeps the SSE2 kernels, so
 // the tests can hold both to the reference).

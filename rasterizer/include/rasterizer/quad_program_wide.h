@@ -385,6 +385,49 @@ template <int kRegs>
     }
 }
 
+// The bilinear float 2D fetch (LinearFloat2D) of kRegs registers: linearCubeFetchAvx2
+// without the face — the footprint of linearAxisAvx2 on s over the width and on t over the
+// height (CLAMP_TO_EDGE), the taps (x0, y0), (x1, y0), (x0, y1), (x1, y1) at y·width + x,
+// and Σ weight·texel in double in that order from 0, each weight w_x·w_y/2^16; then
+// rounded to float. Lanes outside `live` read zero; every index is inside the level.
+template <int kRegs>
+[[gnu::target("avx2")]] inline void linear2DFetchAvx2(const LinearFloat2D& tex2d, const void* cs, const void* ct,
+                                                      const void* live, void* x, void* y, void* z, void* w) {
+    const float* d = &tex2d.data[0].x;
+    const __m256d scale = _mm256_set1_pd(1.0 / 65536.0);
+    const __m256i width = _mm256_set1_epi32(tex2d.width);
+    for (int k = 0; k < kRegs; ++k) {
+        const __m256 s = _mm256_loadu_ps(static_cast<const float*>(cs) + 8 * k);
+        const __m256 t = _mm256_loadu_ps(static_cast<const float*>(ct) + 8 * k);
+        __m256i x0, x1, wx0, wx1, y0, y1, wy0, wy1;
+        linearAxisAvx2(s, tex2d.width, x0, x1, wx0, wx1);
+        linearAxisAvx2(t, tex2d.height, y0, y1, wy0, wy1);
+        const __m256i row0 = _mm256_mullo_epi32(y0, width), row1 = _mm256_mullo_epi32(y1, width);
+        const __m256i idx[4] = {_mm256_add_epi32(row0, x0), _mm256_add_epi32(row0, x1), _mm256_add_epi32(row1, x0),
+                                _mm256_add_epi32(row1, x1)};
+        const __m256i wt[4] = {_mm256_mullo_epi32(wx0, wy0), _mm256_mullo_epi32(wx1, wy0), _mm256_mullo_epi32(wx0, wy1),
+                               _mm256_mullo_epi32(wx1, wy1)};
+        __m256d acc[4][2];
+        for (int c = 0; c < 4; ++c) acc[c][0] = acc[c][1] = _mm256_setzero_pd();
+        for (int tap = 0; tap < 4; ++tap) {
+            __m256 v[4];
+            texels4Avx2(d, idx[tap], v);
+            const __m256d wlo = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(wt[tap])), scale);
+            const __m256d whi = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(wt[tap], 1)), scale);
+            for (int c = 0; c < 4; ++c) {
+                acc[c][0] = _mm256_add_pd(acc[c][0], _mm256_mul_pd(wlo, _mm256_cvtps_pd(_mm256_castps256_ps128(v[c]))));
+                acc[c][1] = _mm256_add_pd(acc[c][1], _mm256_mul_pd(whi, _mm256_cvtps_pd(_mm256_extractf128_ps(v[c], 1))));
+            }
+        }
+        const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
+        void* const out[4] = {x, y, z, w};
+        for (int c = 0; c < 4; ++c) {
+            const __m256 f = _mm256_set_m128(_mm256_cvtpd_ps(acc[c][1]), _mm256_cvtpd_ps(acc[c][0]));
+            _mm256_storeu_ps(static_cast<float*>(out[c]) + 8 * k, _mm256_and_ps(f, m));
+        }
+    }
+}
+
 // The point-sampled four-channel float cube-map fetch (NearestFloat2D with `cube` and
 // data4) of kRegs registers: nearestCubeIndices on eight lanes — linearCubeFetchAvx2's face
 // selection, which is its table lane for lane, then (s, t) to texels as nearestTexels
@@ -456,6 +499,9 @@ struct FourChannelFetch {
     [[RG_NOIPA, gnu::target("avx2")]] void cube(const LinearFloatCube& c, Vec4W<N>& out) const {
         linearCubeFetchAvx2<FloatW<N>::kRegs>(c, x.r, y.r, z.r, live.r, out.x.r, out.y.r, out.z.r, out.w.r);
     }
+    [[RG_NOIPA, gnu::target("avx2")]] void linear2D(const LinearFloat2D& t, Vec4W<N>& out) const {
+        linear2DFetchAvx2<FloatW<N>::kRegs>(t, x.r, y.r, live.r, out.x.r, out.y.r, out.z.r, out.w.r);
+    }
     // The point-sampled float cube map on all N quads in one call: four channels on eight
     // lanes at a time (nearestCubeFetch4Avx2), one channel through nearestCubeIndices and
     // nearestLoads over the quads, the SSE code QuadContext::sampleLevel runs on one quad;
@@ -512,6 +558,21 @@ class QuadGroupWideContext {
         return sampleLevelLanes<false>(unit, c, lod, m);
     }
     Vec4 sample(int unit, int k, const Mask& m = Mask::allLanes()) {
+        const detail::BoundUnit& b = quads_[0].unit(unit);
+        if (b.linear2D.valid() && quads_[0].setup_->path == Path::Fast) {
+            // Bilinear without mipmaps: λ cannot change the result, so all lanes at once.
+            const Mask live = countFetches<false>(m, 4);
+            const Vec4 c = varying(k);
+            FourArgs& a = FourArgs::storage();
+            for (int r = 0; r < WideLanes<N>::kRegs; ++r) {
+                a.x.r[r] = c.x.r[r];
+                a.y.r[r] = c.y.r[r];
+                a.live.r[r] = live.r[r];
+            }
+            Vec4 out;
+            a.linear2D(b.linear2D, out);
+            return out;
+        }
         Vec4 r;
         for (int i = 0; i < N; ++i) r.setQuad(i, quads_[size_t(i)].sample(unit, k, m.quad(i)));
         return r;
