@@ -44,11 +44,12 @@ void gatherBlock(const LightField& lf, const BlockShape& sh, int bi, int bj, int
 // per chunk: at K = 2^16 that was 256 MiB and its page faults), scanned column by column
 // (contiguous) into a running minimum per row. Bit for bit the distances of the former
 // single product per chunk (MatrixF d = (−2·(X_chunk·Cᵀ)).rowwise() + ‖c‖²): the same rows
-// in the same product (Eigen's kernels sum a row's dot products in an order set by the
-// row's place among the product's rows, here unchanged), tiles a multiple of the kernel's
-// column step, the depth (the block's dims) never split; tests/lightfield/test_lightfield_vq_assign.cpp
-// compares both on float data with ties. Scanning the tiles in order with a strict < keeps
-// the lowest index.
+// in each product (Eigen's kernel takes rows in steps of 4 to 12 and the leftover ones by
+// other routes), tiles of a multiple of its column step with the last one taking the
+// remainder, the depth (the block's dims) never split; test_lightfield_vq_assign.cpp
+// compares both on float data whose labels rounding decides. (The encoding's distances are
+// integers below 2^24, exact in any order; training's codebook is not.) Scanning the tiles
+// in order with a strict < keeps the lowest index.
 constexpr int kChunk = 1024;
 constexpr int kTile = 128;
 
@@ -76,19 +77,25 @@ void assignChunk(const MatrixF& X, const MatrixF& C, const Eigen::VectorXf& cn, 
         if (s.d.size() < size_t(n) * size_t(w)) s.d.resize(size_t(n) * size_t(w));
         Eigen::Map<Eigen::MatrixXf> d(s.d.data(), n, w);
         d.noalias() = -2.0f * (X.middleRows(a, n) * C.middleRows(j0, w).transpose());
-        for (int j = 0; j < w; ++j) {
-            const float* col = s.d.data() + size_t(j) * size_t(n);
+        int j = 0;
+        if (j0 == 0) {  // minCoeff starts from coefficient 0
+            const float* col = s.d.data();
+            for (int i = 0; i < n; ++i) best[i] = col[i] + cn[0];
+            j = 1;
+        }
+        for (; j < w; ++j) {
+            const float* __restrict col = s.d.data() + size_t(j) * size_t(n);
             const float c = cn[j0 + j];
             const int k = j0 + j;
-            if (k == 0) {
-                for (int i = 0; i < n; ++i) best[i] = col[i] + c;  // minCoeff starts from coefficient 0
-                continue;
-            }
+            float* __restrict bst = best;
+            int* __restrict idx = bestIndex;
+            // Branch-free, so that GCC vectorizes it: a strict < keeps the lowest index.
             for (int i = 0; i < n; ++i) {
                 const float v = col[i] + c;
-                const bool lower = v < best[i];
-                best[i] = lower ? v : best[i];
-                bestIndex[i] = lower ? k : bestIndex[i];
+                const float b = bst[i];
+                const int lower = -int(v < b);  // all ones where v is lower
+                idx[i] = (idx[i] & ~lower) | (k & lower);
+                bst[i] = v < b ? v : b;
             }
         }
         j0 += w;
