@@ -142,7 +142,7 @@ LightfieldSettings lightfieldSettingsFor(demos::Quality quality) {
         s.radU = 128;
         s.vqK = 65536;           // §5: "the table size as 2^16"
         s.vqKOther = 65536;      // the same for the (s, t)- and (u, v)-halved variants: plate 3 compares equal codebooks
-                                 // (their 2^22 blocks encode in about 4 min each on 2 cores, docs/performance.md)
+                                 // (their 2^22 blocks encode in about 4.5 min each on 2 loaded cores, docs/performance.md)
         s.vqTraining = 131072;   // an eighth of the 2^20 blocks, 2 per codeword
         s.vqIterations = 3;
         s.glossySize = 128;
@@ -951,7 +951,10 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
         t.rows.push_back({"PSNR vs ray tracer, " + sc.envAName, "—", num(scoreA.psnr) + " dB (SSIM " + num(scoreA.ssim, 3) + ")"});
         t.rows.push_back({"PSNR vs ray tracer, " + sc.envBName, "—", num(scoreB.psnr) + " dB (SSIM " + num(scoreB.ssim, 3) + ")"});
         t.rows.push_back({"pixel texture = software (differing pixels)", "same images", std::to_string(routeDiff)});
-        t.rows.push_back({"swapping the environment", "no recompute", std::to_string(swapUpload) + " bytes uploaded; the light field took " + num(geoSeconds, 1) + " s to trace"});
+        t.rows.push_back({"swapping the environment", "no recompute", std::to_string(swapUpload) + " bytes uploaded; the light field took " + num(geoSeconds, 1) + " s to trace" +
+                                      (geoSlices.resident() ? std::string(" (resident)")
+                                                            : " (not resident: " + std::to_string(ptB.uploadBytes) +
+                                                                  " bytes streamed in every frame, swap or not)")});
         rep.table(t);
     }
     md << "Per frame (pixel texture, ms): Gortler " << num(fps["pixel_texture_sgi_octane_mxe"]["gortler_ms"].get<double>()) << ", read-back "
