@@ -6,6 +6,10 @@
 // Pixel texture, texture colour tables and 4D textures have no llvmpipe peer (ours only:
 // pixel_texture_4d and color_table_lookup in bench_texunit.cpp, the lightfield_* frames in
 // bench_papers.cpp).
+//
+// lightfield_vq_assign (ours only): the VQ's nearest-codeword search (vq.cpp, what training
+// and encoding spend their time in) for 8192 blocks of 48 bytes (2×2×2×2 RGB) against a
+// K = 2^16 codebook: 1/128 of encoding the paper's 2^20 all-halved blocks.
 #include <GL/gl.h>
 #include <benchmark/benchmark.h>
 
@@ -21,6 +25,7 @@
 #include "harness.h"
 #include "lightfield_scene.h"
 #include "mesa_peer.h"
+#include "vq.h"
 
 namespace rg::bench {
 namespace {
@@ -132,6 +137,20 @@ void runLlvmpipe(benchmark::State& state, int threads) {
     runMesaBenchmark(state, kSize, kSize, threads, setup, frame, 1);
 }
 
+void runVqAssign(benchmark::State& state, int threads) {
+    constexpr int kBlocks = 8192, kCodewords = 65536, kDims = 48;
+    // Byte values, as the encoding sees them (the light field's samples, the rounded codebook).
+    std::vector<float> blocks(size_t(kBlocks) * kDims), codebook(size_t(kCodewords) * kDims);
+    uint32_t h = 777;
+    for (float& v : blocks) v = float((h = h * 1664525u + 1013904223u) >> 24);
+    for (float& v : codebook) v = float((h = h * 1664525u + 1013904223u) >> 24);
+    for (auto _ : state) {
+        const std::vector<int> label = lightfield::nearestCodewords(blocks.data(), kBlocks, codebook.data(), kCodewords, kDims, threads);
+        benchmark::DoNotOptimize(label.data());
+    }
+    state.SetItemsProcessed(state.iterations() * kBlocks);
+}
+
 // Registered once `retroglass bench` has read its thread counts (harness.h).
 const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
     for (int t : threadCounts) {
@@ -144,7 +163,12 @@ const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
                                      [t](benchmark::State& s) { runLlvmpipe(s, t); })
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("lightfield_vq_assign/retroglass" + suffix).c_str(),
+                                     [t](benchmark::State& s) { runVqAssign(s, t); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
     }
+    noteOursOnly("lightfield_vq_assign", "a CPU k-means step (Eigen products), no GL peer");
 });
 
 }  // namespace

@@ -141,7 +141,8 @@ LightfieldSettings lightfieldSettingsFor(demos::Quality quality) {
         s.radS = 32;
         s.radU = 128;
         s.vqK = 65536;           // §5: "the table size as 2^16"
-        s.vqKOther = 4096;
+        s.vqKOther = 65536;      // the same for the (s, t)- and (u, v)-halved variants: plate 3 compares equal codebooks
+                                 // (their 2^22 blocks encode in about 4.5 min each on 2 loaded cores, docs/performance.md)
         s.vqTraining = 131072;   // an eighth of the 2^20 blocks, 2 per codeword
         s.vqIterations = 3;
         s.glossySize = 128;
@@ -308,7 +309,10 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
         {"pixel_texture_sha256_b", sha(ptB.pixels)}, {"software_sha256_b", sha(swFrameB.pixels)},
         {"differing_pixels", routeDiff},
         {"environment_swap_upload_bytes", swapUpload},
-        {"environment_swap_light_field_upload_bytes", ptB.uploadBytes - (geoSlices.resident() ? 0 : ptB.uploadBytes)},
+        // The light field's bytes uploaded in the frames before and after the swap: 0 when it
+        // is resident, every slice each frame when it does not fit (swap or not).
+        {"environment_swap_light_field_upload_bytes", ptB.uploadBytes},
+        {"light_field_upload_bytes_per_frame_before_swap", ptA.uploadBytes},
         {"light_field_recompute_seconds", geoSeconds},
         {"environment_resample_seconds", envSeconds},
         {"octane_texture_bytes_resident", residentBefore},
@@ -635,9 +639,9 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
         struct V { std::string name; BlockShape shape; };
         for (const V& v : {V{"st_halved", {2, 2, 1, 1}}, V{"uv_halved", {1, 1, 2, 2}}, V{"all_halved", {2, 2, 2, 2}}}) {
             VqOptions vo;
-            // The paper's configuration (all four halved, §5) gets the full codebook; the
-            // other two plate-3 variants K = vqKOther (their 4× more blocks against 2^16
-            // codewords would take most of an hour to encode).
+            // The paper's configuration (all four halved, §5) K = vqK, the other two plate-3
+            // variants K = vqKOther: equal at quick and paper quality (2^16 at paper), so the
+            // plate compares equal codebooks; a test sets them apart.
             vo.codebookSize = v.name == "all_halved" ? S.vqK : S.vqKOther;
             vo.trainingBlocks = S.vqTraining;
             vo.iterations = S.vqIterations;
@@ -899,11 +903,20 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
         c.id = "environment_swap_needs_no_recompute";
         c.section = "§1, §4";
         c.statement = "Geometry and illumination are decoupled: the environment is exchanged without touching the light field";
-        c.test = "switching environments uploads the new map and nothing else (the light field stays resident, 0 of its bytes re-uploaded); each render's PSNR against its own ray tracer is reported beside it";
+        // Whether the light field fits the texture memory is a memory limit, not a recompute:
+        // one that does not fit is streamed in every frame, swap or not. The test is that the
+        // swap costs the map's upload and nothing of the light field; residency is reported.
+        c.test = "switching environments uploads the new map and nothing else: the swap's uploads are the map's bytes, and the "
+                 "frame after it uploads exactly the light-field bytes the frame before it did (0 when the light field is "
+                 "resident; when it does not fit the texture memory its slices are streamed in every frame, swap or not: "
+                 "reported as light_field_resident and the bytes per frame, not counted against the claim); each render's "
+                 "PSNR against its own ray tracer is reported beside it";
         c.measured = {{"map_upload_bytes", swapUpload}, {"map_bytes", uint64_t(S.envSize) * S.envSize * 2 * 3},
+                      {"light_field_upload_bytes_before_swap", ptA.uploadBytes},
+                      {"light_field_upload_bytes_after_swap", ptB.uploadBytes},
                       {"psnr_a", scoreA.psnr}, {"psnr_b", scoreB.psnr}, {"light_field_resident", geoSlices.resident()},
                       {"light_field_recompute_seconds_avoided", geoSeconds}};
-        c.holds = geoSlices.resident() && swapUpload == uint64_t(S.envSize) * S.envSize * 2 * 3;
+        c.holds = swapUpload == uint64_t(S.envSize) * S.envSize * 2 * 3 && ptB.uploadBytes == ptA.uploadBytes;
         rep.claim(c);
     }
     rep.claim(demos::claimWithin("gortler_weights_sum_to_one", "§3 (derived)",
@@ -938,7 +951,10 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
         t.rows.push_back({"PSNR vs ray tracer, " + sc.envAName, "—", num(scoreA.psnr) + " dB (SSIM " + num(scoreA.ssim, 3) + ")"});
         t.rows.push_back({"PSNR vs ray tracer, " + sc.envBName, "—", num(scoreB.psnr) + " dB (SSIM " + num(scoreB.ssim, 3) + ")"});
         t.rows.push_back({"pixel texture = software (differing pixels)", "same images", std::to_string(routeDiff)});
-        t.rows.push_back({"swapping the environment", "no recompute", std::to_string(swapUpload) + " bytes uploaded; the light field took " + num(geoSeconds, 1) + " s to trace"});
+        t.rows.push_back({"swapping the environment", "no recompute", std::to_string(swapUpload) + " bytes uploaded; the light field took " + num(geoSeconds, 1) + " s to trace" +
+                                      (geoSlices.resident() ? std::string(" (resident)")
+                                                            : " (not resident: " + std::to_string(ptB.uploadBytes) +
+                                                                  " bytes streamed in every frame, swap or not)")});
         rep.table(t);
     }
     md << "Per frame (pixel texture, ms): Gortler " << num(fps["pixel_texture_sgi_octane_mxe"]["gortler_ms"].get<double>()) << ", read-back "
@@ -1003,7 +1019,10 @@ nlohmann::json runLightfield(const LightfieldSettings& S, const demos::Reproduce
            << num(v["uv_halved"]["psnr_vs_uncompressed"]["psnr_db"].get<double>()) << " dB and the all-halved "
            << num(v["all_halved"]["psnr_vs_uncompressed"]["psnr_db"].get<double>()) << " dB.\n\n";
     }
-    md << "Codebook of the all-halved (paper's) variant: K = " << S.vqK << "; the (s, t)- and (u, v)-halved variants K = " << S.vqKOther << " (" << (S.vqK > 256 ? "2-byte I16 indices through 65,536-entry-capable colour tables" : "1-byte indices")
+    md << (S.vqK == S.vqKOther ? "Codebook of every variant: K = " + std::to_string(S.vqK)
+                                : "Codebook of the all-halved (paper's) variant: K = " + std::to_string(S.vqK) +
+                                      "; the (s, t)- and (u, v)-halved variants K = " + std::to_string(S.vqKOther))
+       << " (" << (S.vqK > 256 ? "2-byte I16 indices through 65,536-entry-capable colour tables" : "1-byte indices")
        << "), LBG / k-means on " << S.vqTraining << " random blocks, " << S.vqIterations << " iterations, distances by Eigen matrix "
        "products. The (s, t)-halved variant samples its full-resolution index textures NEAREST (filtering precedes the colour "
        "table), so it loses the bilinear (u, v) interpolation the paper's \"trivial extension\" keeps silent about.\n\n";

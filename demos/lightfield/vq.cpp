@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -35,23 +36,85 @@ void gatherBlock(const LightField& lf, const BlockShape& sh, int bi, int bj, int
                 }
 }
 
-// Nearest codeword of every row of X (distances by one matrix product per chunk).
+// Nearest codeword of every row of X: ‖x − c‖² − ‖x‖² = ‖c‖² − 2 x·c, the row's minimum
+// (the lowest index among equal ones, as Eigen's minCoeff) is the nearest codeword.
+//
+// Per chunk of kChunk rows, the codebook in tiles of kTile codewords: one Eigen product per
+// tile into a column-major chunk × tile buffer reused by the thread (no fresh K-wide matrix
+// per chunk: at K = 2^16 that was 256 MiB and its page faults), scanned column by column
+// (contiguous) into a running minimum per row. Bit for bit the distances of the former
+// single product per chunk (MatrixF d = (−2·(X_chunk·Cᵀ)).rowwise() + ‖c‖²): the same rows
+// in each product (Eigen's kernel takes rows in steps of 4 to 12 and the leftover ones by
+// other routes), tiles of a multiple of its column step with the last one taking the
+// remainder, the depth (the block's dims) never split; test_lightfield_vq_assign.cpp
+// compares both on float data whose labels rounding decides. (The encoding's distances are
+// integers below 2^24, exact in any order; training's codebook is not.) Scanning the tiles
+// in order with a strict < keeps the lowest index.
+constexpr int kChunk = 1024;
+constexpr int kTile = 128;
+
+struct AssignScratch {
+    std::vector<float> d;          // kChunk × (< 2·kTile), column-major
+    std::vector<float> best;       // per row of the chunk
+    std::vector<int> bestIndex;
+};
+
+void assignChunk(const MatrixF& X, const MatrixF& C, const Eigen::VectorXf& cn, Eigen::Index a, int n,
+                 AssignScratch& s, int* label) {
+    const int K = int(C.rows());
+    s.best.assign(size_t(n), 0.0f);
+    s.bestIndex.assign(size_t(n), 0);
+    float* best = s.best.data();
+    int* bestIndex = s.bestIndex.data();
+    // A few rows (the last chunk's) take the codebook in one product, the former one: a
+    // narrow tile beside them could make Eigen pick another route (a coefficient-wise
+    // product below 20 rows + columns + depth, a matrix-vector one for one row).
+    const int tile = n < 32 ? K : kTile;
+    for (int j0 = 0; j0 < K;) {
+        // The last tile takes the remainder (kTile to 2·kTile − 1 codewords): never a
+        // single-column product.
+        const int w = K - j0 < 2 * tile ? K - j0 : tile;
+        if (s.d.size() < size_t(n) * size_t(w)) s.d.resize(size_t(n) * size_t(w));
+        Eigen::Map<Eigen::MatrixXf> d(s.d.data(), n, w);
+        d.noalias() = -2.0f * (X.middleRows(a, n) * C.middleRows(j0, w).transpose());
+        int j = 0;
+        if (j0 == 0) {  // minCoeff starts from coefficient 0
+            const float* col = s.d.data();
+            for (int i = 0; i < n; ++i) best[i] = col[i] + cn[0];
+            j = 1;
+        }
+        for (; j < w; ++j) {
+            const float* __restrict col = s.d.data() + size_t(j) * size_t(n);
+            const float c = cn[j0 + j];
+            const int k = j0 + j;
+            float* __restrict bst = best;
+            int* __restrict idx = bestIndex;
+            // Branch-free, so that GCC vectorizes it: a strict < keeps the lowest index.
+            for (int i = 0; i < n; ++i) {
+                const float v = col[i] + c;
+                const float b = bst[i];
+                const int lower = -int(v < b);  // all ones where v is lower
+                idx[i] = (idx[i] & ~lower) | (k & lower);
+                bst[i] = v < b ? v : b;
+            }
+        }
+        j0 += w;
+    }
+    std::copy(bestIndex, bestIndex + n, label);
+}
+
 void assign(const MatrixF& X, const MatrixF& C, std::vector<int>& label, int threads) {
     const Eigen::VectorXf cn = C.rowwise().squaredNorm();
-    constexpr int kChunk = 1024;
     const int chunks = int((X.rows() + kChunk - 1) / kChunk);
+    tbb::enumerable_thread_specific<AssignScratch> scratch;
     tbb::task_arena arena(threads > 0 ? threads : tbb::this_task_arena::max_concurrency());
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, chunks), [&](const tbb::blocked_range<int>& r) {
+            AssignScratch& s = scratch.local();
             for (int c = r.begin(); c != r.end(); ++c) {
-                const int a = c * kChunk, n = int(std::min<Eigen::Index>(kChunk, X.rows() - a));
-                // ‖x − c‖² − ‖x‖² = ‖c‖² − 2 x·c: the row's minimum is the nearest codeword.
-                MatrixF d = (-2.0f * (X.middleRows(a, n) * C.transpose())).rowwise() + cn.transpose();
-                for (int i = 0; i < n; ++i) {
-                    Eigen::Index k;
-                    d.row(i).minCoeff(&k);
-                    label[size_t(a + i)] = int(k);
-                }
+                const Eigen::Index a = Eigen::Index(c) * kChunk;
+                const int n = int(std::min<Eigen::Index>(kChunk, X.rows() - a));
+                assignChunk(X, C, cn, a, n, s, label.data() + a);
             }
         });
     });
@@ -92,6 +155,14 @@ std::vector<std::shared_ptr<const tex::ColorTable>> parityTables(const VqLightFi
 }
 
 }  // namespace
+
+std::vector<int> nearestCodewords(const float* blocks, int64_t rows, const float* codebook, int K, int dims, int threads) {
+    const MatrixF X = Eigen::Map<const MatrixF>(blocks, rows, dims);
+    const MatrixF C = Eigen::Map<const MatrixF>(codebook, K, dims);
+    std::vector<int> label(static_cast<size_t>(rows));
+    assign(X, C, label, threads);
+    return label;
+}
 
 VqLightField quantize(const LightField& lf, const BlockShape& sh, const VqOptions& o) {
     if (lf.channels != 3) throw Error("vq: only RGB light fields are quantized");

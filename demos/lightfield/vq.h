@@ -75,6 +75,11 @@ struct VqLightField {
 // Trains the codebook on a subset and encodes every block; throws rg::Error for a shape
 // that does not divide the slab, K outside [2, 65536], or fewer blocks than K.
 VqLightField quantize(const LightField& lf, const BlockShape& shape, const VqOptions& options);
+// The nearest codeword of each of `rows` vectors of `dims` floats (row-major in `blocks`)
+// among the K codewords (row-major in `codebook`): distances ‖c‖² − 2x·c by Eigen matrix
+// products, ties to the lowest index. What quantize's LBG iterations and its encoding use,
+// for the tests.
+std::vector<int> nearestCodewords(const float* blocks, int64_t rows, const float* codebook, int K, int dims, int threads = 0);
 // The decoded light field (each block replaced by its codeword): the software reference of
 // what the passes reconstruct. Throws rg::Error naming the block when an index is outside
 // the codebook.
