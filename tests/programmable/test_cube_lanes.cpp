@@ -45,6 +45,33 @@ float component(std::mt19937& rng, float other) {
     }
 }
 
+// Random texels for one face of level l of an RGBA16F or RGBA32F texture: finite halves
+// (±0 included); or, with `palette`, values that cancel exactly or absorb each other in the
+// double sum, so that the order of the taps shows (with the equal weights of a texel edge,
+// (2^100 − 2^100) + 1 is 1 but (2^100 + 1) − 2^100 is 0); or floats over 60 binades with
+// −0 among them.
+std::vector<uint8_t> levelBytes(std::mt19937& rng, const tex::Texture& t, int l, bool palette) {
+    const auto& s = t.levelSize(l);
+    const int bpt = tex::formatInfo(t.desc().format).bytesPerTexel;
+    std::vector<uint8_t> b(static_cast<size_t>(s[0]) * size_t(s[1]) * size_t(bpt));
+    if (bpt == 8) {
+        for (size_t i = 0; i < b.size() / 2; ++i) {
+            const uint16_t h = uint16_t(rng() & 0xFBFF);
+            std::memcpy(&b[i * 2], &h, 2);
+        }
+    } else if (palette) {
+        const float values[] = {0x1p100f, -0x1p100f, 1.0f, -1.0f, 0x1p-100f, -0.75f, -0.0f};
+        for (size_t i = 0; i < b.size() / 4; ++i) std::memcpy(&b[i * 4], &values[rng() % 7], 4);
+    } else {
+        for (size_t i = 0; i < b.size() / 4; ++i) {
+            const int e = int(rng() % 60) - 30;
+            const float v = (i % 9 == 0) ? -0.0f : std::ldexp(float(int(rng() % 2001) - 1000) / 997.0f, e);
+            std::memcpy(&b[i * 4], &v, 4);
+        }
+    }
+    return b;
+}
+
 TEST(ProgramFetch, BilinearCubeFastFetchMatchesTheTapListBitForBit) {
     if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "the AVX2 kernel's fetch needs AVX2";
     std::mt19937 rng(1999);
@@ -60,30 +87,7 @@ TEST(ProgramFetch, BilinearCubeFastFetchMatchesTheTapListBitForBit) {
         auto t = memory.create(d);
         const bool palette = rng() & 1;
         for (int l = 0; l < d.levels; ++l)
-            for (int f = 0; f < 6; ++f) {
-                const auto& s = t->levelSize(l);
-                const int bpt = tex::formatInfo(d.format).bytesPerTexel;
-                std::vector<uint8_t> b(static_cast<size_t>(s[0]) * size_t(s[1]) * size_t(bpt));
-                if (bpt == 8) {
-                    for (size_t i = 0; i < b.size() / 2; ++i) {
-                        const uint16_t h = uint16_t(rng() & 0xFBFF);  // finite halves, ±0 included
-                        std::memcpy(&b[i * 2], &h, 2);
-                    }
-                } else if (palette) {
-                    // Values that cancel exactly or absorb each other in the double sum, so
-                    // that the order of the taps shows: with the equal weights of a texel
-                    // edge, (2^100 − 2^100) + 1 is 1 but (2^100 + 1) − 2^100 is 0.
-                    const float values[] = {0x1p100f, -0x1p100f, 1.0f, -1.0f, 0x1p-100f, -0.75f, -0.0f};
-                    for (size_t i = 0; i < b.size() / 4; ++i) std::memcpy(&b[i * 4], &values[rng() % 7], 4);
-                } else {
-                    for (size_t i = 0; i < b.size() / 4; ++i) {
-                        const int e = int(rng() % 60) - 30;
-                        const float v = (i % 9 == 0) ? -0.0f : std::ldexp(float(int(rng() % 2001) - 1000) / 997.0f, e);
-                        std::memcpy(&b[i * 4], &v, 4);
-                    }
-                }
-                memory.upload(*t, l, f, b);
-            }
+            for (int f = 0; f < 6; ++f) memory.upload(*t, l, f, levelBytes(rng, *t, l, palette));
         tex::SamplerState s;  // LINEAR, LINEAR, no mipmaps: the fast case
         s.baseLevel = int(rng() % 3);
         s.lodBias = float(int(rng() % 9) - 4) * 0.5f;
@@ -185,27 +189,7 @@ TEST(ProgramFetch, Bilinear2DFastFetchMatchesTheTapListBitForBitAtAnyLod) {
         d.levels = 1 + int(rng() % tex::fullChainLevels(d));
         auto t = memory.create(d);
         const bool palette = rng() & 1;
-        for (int l = 0; l < d.levels; ++l) {
-            const auto& sz = t->levelSize(l);
-            const int bpt = tex::formatInfo(d.format).bytesPerTexel;
-            std::vector<uint8_t> b(static_cast<size_t>(sz[0]) * size_t(sz[1]) * size_t(bpt));
-            if (bpt == 8) {
-                for (size_t i = 0; i < b.size() / 2; ++i) {
-                    const uint16_t h = uint16_t(rng() & 0xFBFF);
-                    std::memcpy(&b[i * 2], &h, 2);
-                }
-            } else if (palette) {  // the order of the taps' sum shows (see above)
-                const float values[] = {0x1p100f, -0x1p100f, 1.0f, -1.0f, 0x1p-100f, -0.75f, -0.0f};
-                for (size_t i = 0; i < b.size() / 4; ++i) std::memcpy(&b[i * 4], &values[rng() % 7], 4);
-            } else {
-                for (size_t i = 0; i < b.size() / 4; ++i) {
-                    const int e = int(rng() % 60) - 30;
-                    const float v = (i % 9 == 0) ? -0.0f : std::ldexp(float(int(rng() % 2001) - 1000) / 997.0f, e);
-                    std::memcpy(&b[i * 4], &v, 4);
-                }
-            }
-            memory.upload(*t, l, 0, b);
-        }
+        for (int l = 0; l < d.levels; ++l) memory.upload(*t, l, 0, levelBytes(rng, *t, l, palette));
         tex::SamplerState s;  // LINEAR, LINEAR, no mipmaps, CLAMP_TO_EDGE: the fast case
         s.address = {tex::AddressMode::ClampToEdge, tex::AddressMode::ClampToEdge, tex::AddressMode::Wrap,
                      tex::AddressMode::Wrap};

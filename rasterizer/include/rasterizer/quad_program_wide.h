@@ -309,6 +309,40 @@ template <int kRegs>
     v[3] = _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(3, 2, 3, 2));
 }
 
+// The bilinear sum of register k of both float fetches below: the taps (x0, y0), (x1, y0),
+// (x0, y1), (x1, y1) at row + x, each weight w_x·w_y/2^16 (exact in double, as is its
+// product with a float texel), Σ weight·texel in double in that order from 0 on lanes 0–3
+// and 4–7, rounded to float; lanes outside `live` zero.
+[[gnu::target("avx2"), gnu::always_inline]] inline void bilinearSumAvx2(const float* d, __m256i row0, __m256i row1,
+                                                                        __m256i x0, __m256i x1, __m256i wx0,
+                                                                        __m256i wx1, __m256i wy0, __m256i wy1,
+                                                                        const void* live, int k, void* x, void* y,
+                                                                        void* z, void* w) {
+    const __m256d scale = _mm256_set1_pd(1.0 / 65536.0);
+    const __m256i idx[4] = {_mm256_add_epi32(row0, x0), _mm256_add_epi32(row0, x1), _mm256_add_epi32(row1, x0),
+                            _mm256_add_epi32(row1, x1)};
+    const __m256i wt[4] = {_mm256_mullo_epi32(wx0, wy0), _mm256_mullo_epi32(wx1, wy0), _mm256_mullo_epi32(wx0, wy1),
+                           _mm256_mullo_epi32(wx1, wy1)};
+    __m256d acc[4][2];
+    for (int c = 0; c < 4; ++c) acc[c][0] = acc[c][1] = _mm256_setzero_pd();
+    for (int tap = 0; tap < 4; ++tap) {
+        __m256 v[4];
+        texels4Avx2(d, idx[tap], v);
+        const __m256d wlo = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(wt[tap])), scale);
+        const __m256d whi = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(wt[tap], 1)), scale);
+        for (int c = 0; c < 4; ++c) {
+            acc[c][0] = _mm256_add_pd(acc[c][0], _mm256_mul_pd(wlo, _mm256_cvtps_pd(_mm256_castps256_ps128(v[c]))));
+            acc[c][1] = _mm256_add_pd(acc[c][1], _mm256_mul_pd(whi, _mm256_cvtps_pd(_mm256_extractf128_ps(v[c], 1))));
+        }
+    }
+    const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
+    void* const out[4] = {x, y, z, w};
+    for (int c = 0; c < 4; ++c) {
+        const __m256 f = _mm256_set_m128(_mm256_cvtpd_ps(acc[c][1]), _mm256_cvtpd_ps(acc[c][0]));
+        _mm256_storeu_ps(static_cast<float*>(out[c]) + 8 * k, _mm256_and_ps(f, m));
+    }
+}
+
 // The bilinear float cube-map fetch (LinearFloatCube) of kRegs registers: what
 // tex::programFetch's fast path computes lane by lane — the face and (s, t) of
 // tex::detail::selectCubeFace (ties X before Y before Z, −0 and NaN as its compares take
@@ -325,7 +359,6 @@ template <int kRegs>
     const float* d = &cube.data[0].x;
     const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps(), half = _mm256_set1_ps(0.5f);
     const __m256 one = _mm256_set1_ps(1.0f);
-    const __m256d scale = _mm256_set1_pd(1.0 / 65536.0);
     for (int k = 0; k < kRegs; ++k) {
         const __m256 rx = _mm256_loadu_ps(static_cast<const float*>(cx) + 8 * k);
         const __m256 ry = _mm256_loadu_ps(static_cast<const float*>(cy) + 8 * k);
@@ -359,29 +392,7 @@ template <int kRegs>
         const __m256i n = _mm256_set1_epi32(cube.size);
         const __m256i row0 = _mm256_add_epi32(base, _mm256_mullo_epi32(y0, n));
         const __m256i row1 = _mm256_add_epi32(base, _mm256_mullo_epi32(y1, n));
-        const __m256i idx[4] = {_mm256_add_epi32(row0, x0), _mm256_add_epi32(row0, x1), _mm256_add_epi32(row1, x0),
-                                _mm256_add_epi32(row1, x1)};
-        const __m256i wt[4] = {_mm256_mullo_epi32(wx0, wy0), _mm256_mullo_epi32(wx1, wy0), _mm256_mullo_epi32(wx0, wy1),
-                               _mm256_mullo_epi32(wx1, wy1)};
-        // ---- Σ weight·texel in double: lanes 0–3 and 4–7 of each channel ----
-        __m256d acc[4][2];
-        for (int c = 0; c < 4; ++c) acc[c][0] = acc[c][1] = _mm256_setzero_pd();
-        for (int tap = 0; tap < 4; ++tap) {
-            __m256 v[4];
-            texels4Avx2(d, idx[tap], v);
-            const __m256d wlo = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(wt[tap])), scale);
-            const __m256d whi = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(wt[tap], 1)), scale);
-            for (int c = 0; c < 4; ++c) {
-                acc[c][0] = _mm256_add_pd(acc[c][0], _mm256_mul_pd(wlo, _mm256_cvtps_pd(_mm256_castps256_ps128(v[c]))));
-                acc[c][1] = _mm256_add_pd(acc[c][1], _mm256_mul_pd(whi, _mm256_cvtps_pd(_mm256_extractf128_ps(v[c], 1))));
-            }
-        }
-        const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
-        void* const out[4] = {x, y, z, w};
-        for (int c = 0; c < 4; ++c) {
-            const __m256 f = _mm256_set_m128(_mm256_cvtpd_ps(acc[c][1]), _mm256_cvtpd_ps(acc[c][0]));
-            _mm256_storeu_ps(static_cast<float*>(out[c]) + 8 * k, _mm256_and_ps(f, m));
-        }
+        bilinearSumAvx2(d, row0, row1, x0, x1, wx0, wx1, wy0, wy1, live, k, x, y, z, w);
     }
 }
 
@@ -394,7 +405,6 @@ template <int kRegs>
 [[gnu::target("avx2")]] inline void linear2DFetchAvx2(const LinearFloat2D& tex2d, const void* cs, const void* ct,
                                                       const void* live, void* x, void* y, void* z, void* w) {
     const float* d = &tex2d.data[0].x;
-    const __m256d scale = _mm256_set1_pd(1.0 / 65536.0);
     const __m256i width = _mm256_set1_epi32(tex2d.width);
     for (int k = 0; k < kRegs; ++k) {
         const __m256 s = _mm256_loadu_ps(static_cast<const float*>(cs) + 8 * k);
@@ -403,28 +413,7 @@ template <int kRegs>
         linearAxisAvx2(s, tex2d.width, x0, x1, wx0, wx1);
         linearAxisAvx2(t, tex2d.height, y0, y1, wy0, wy1);
         const __m256i row0 = _mm256_mullo_epi32(y0, width), row1 = _mm256_mullo_epi32(y1, width);
-        const __m256i idx[4] = {_mm256_add_epi32(row0, x0), _mm256_add_epi32(row0, x1), _mm256_add_epi32(row1, x0),
-                                _mm256_add_epi32(row1, x1)};
-        const __m256i wt[4] = {_mm256_mullo_epi32(wx0, wy0), _mm256_mullo_epi32(wx1, wy0), _mm256_mullo_epi32(wx0, wy1),
-                               _mm256_mullo_epi32(wx1, wy1)};
-        __m256d acc[4][2];
-        for (int c = 0; c < 4; ++c) acc[c][0] = acc[c][1] = _mm256_setzero_pd();
-        for (int tap = 0; tap < 4; ++tap) {
-            __m256 v[4];
-            texels4Avx2(d, idx[tap], v);
-            const __m256d wlo = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(wt[tap])), scale);
-            const __m256d whi = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(wt[tap], 1)), scale);
-            for (int c = 0; c < 4; ++c) {
-                acc[c][0] = _mm256_add_pd(acc[c][0], _mm256_mul_pd(wlo, _mm256_cvtps_pd(_mm256_castps256_ps128(v[c]))));
-                acc[c][1] = _mm256_add_pd(acc[c][1], _mm256_mul_pd(whi, _mm256_cvtps_pd(_mm256_extractf128_ps(v[c], 1))));
-            }
-        }
-        const __m256 m = _mm256_loadu_ps(static_cast<const float*>(live) + 8 * k);
-        void* const out[4] = {x, y, z, w};
-        for (int c = 0; c < 4; ++c) {
-            const __m256 f = _mm256_set_m128(_mm256_cvtpd_ps(acc[c][1]), _mm256_cvtpd_ps(acc[c][0]));
-            _mm256_storeu_ps(static_cast<float*>(out[c]) + 8 * k, _mm256_and_ps(f, m));
-        }
+        bilinearSumAvx2(d, row0, row1, x0, x1, wx0, wx1, wy0, wy1, live, k, x, y, z, w);
     }
 }
 
