@@ -52,6 +52,16 @@ struct Box {
     int x0, y0, x1, y1;  // inclusive
 };
 
+// The textured walk's scratch, made once per run of triangles (a tile of a draw) instead
+// of per triangle: value-initialising these 3 KiB for every triangle of a mesh of tiny
+// ones took 46 % of quadWalk (rep stos; hybrid's layer passes, perf). Each quad writes
+// every field the texture units read before they read it, so no triangle sees another's.
+struct WalkScratch {
+    std::array<tex::FragmentQuad, 2> fragment;
+    sse::TexPlanes tplanes;
+    sse::TexRowTerms trow;
+};
+
 // Covered pixels of row py: [l, r] ∩ box. Edge e is E = R + K·px with
 // R = C + A·half + B·Y and K = A·2^s; E ≥ 0 solved exactly in integers.
 // Always inlined: in spanFill's row loop a call costs the flat fill 2% (measured).
@@ -209,20 +219,19 @@ constexpr int kSpanWalkMinWidth = 16;
 // processQuad<false, ...> (the reference) computes.
 template <bool kDepth, int kBlendMode, bool kPassThrough>
 void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPool, const Box& box,
-              RasterCounters& rc) {
+              WalkScratch& scratch, RasterCounters& rc) {
     constexpr bool kBlend = kBlendMode != kBlendNone;
     const int s = dc.subpixelBits;
     const int fbW = dc.fb->width(), fbH = dc.fb->height();
     sse::Planes planes;
     sse::RowTerms row;
-    // Per triangle for the texture stages: FragmentQuad scratch (two for the AVX2 runs).
-    std::optional<std::array<tex::FragmentQuad, 2>> fragment;
-    std::optional<sse::TexPlanes> tplanes;  // textured quads: their coordinate planes
-    std::optional<sse::TexRowTerms> trow;
+    // Textured quads: the run's scratch (WalkScratch), every field the texture units read
+    // written per quad before it is read.
+    std::array<tex::FragmentQuad, 2>* const fragment = &scratch.fragment;
+    sse::TexPlanes* const tplanes = &scratch.tplanes;
+    sse::TexRowTerms* const trow = &scratch.trow;
     if constexpr (!kPassThrough) {
-        fragment.emplace();
-        tplanes.emplace().load(texPool + t.texPlanes, dc.numTexSets);
-        trow.emplace();
+        tplanes->load(texPool + t.texPlanes, dc.numTexSets);
         planes.load(t, dc.gouraud ? (specularRead(dc) ? 8 : 4) : 0);  // 1/w: every quad
     }
     // The AVX2 runs cover Gouraud colour without the specular add (raster_span_avx2.h).
@@ -325,7 +334,7 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
 }
 
 using QuadWalkFn = void (*)(const DrawContext&, const SetupTriangle&, const Plane*, const Box&,
-                            RasterCounters&);
+                            WalkScratch&, RasterCounters&);
 // A run of one chunk's triangles: items [begin, end) of its tris, or with `tile` of its
 // bin list, each box clipped to the tile. Each triangle goes to the single-quad kernel
 // (inlined here, with its state as template arguments: a call per triangle and the
@@ -333,13 +342,14 @@ using QuadWalkFn = void (*)(const DrawContext&, const SetupTriangle&, const Plan
 // fill or quadWalk.
 using TriangleRunFn = void (*)(const DrawContext&, const TriangleChunk&, uint32_t begin,
                                uint32_t end, const Box* tile, QuadWalkFn walk,
-                               RasterCounters&);
+                               WalkScratch&, RasterCounters&);
 
 template <bool kSingleQuad, bool kDepth, int kBlendMode>
 [[gnu::always_inline]] inline void triangleRunBody(const DrawContext& dc,
                                                    const TriangleChunk& chunk, uint32_t begin,
                                                    uint32_t end, const Box* tile,
-                                                   QuadWalkFn walk, RasterCounters& rc) {
+                                                   QuadWalkFn walk, WalkScratch& scratch,
+                                                   RasterCounters& rc) {
     const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
                               !dc.st.blend;
     const SetupTriangle* tris = chunk.tris.data();
@@ -358,14 +368,16 @@ template <bool kSingleQuad, bool kDepth, int kBlendMode>
         else if (spanFillable && constantColor(dc, t, color))
             spanFill(dc, t, box, color, rc);
         else
-            walk(dc, t, chunk.texPlanes.data(), box, rc);
+            walk(dc, t, chunk.texPlanes.data(), box, scratch, rc);
     }
 }
 
 template <bool kSingleQuad, bool kDepth, int kBlendMode>
 void triangleRun(const DrawContext& dc, const TriangleChunk& chunk, uint32_t begin,
-                 uint32_t end, const Box* tile, QuadWalkFn walk, RasterCounters& rc) {
-    triangleRunBody<kSingleQuad, kDepth, kBlendMode>(dc, chunk, begin, end, tile, walk, rc);
+                 uint32_t end, const Box* tile, QuadWalkFn walk, WalkScratch& scratch,
+                 RasterCounters& rc) {
+    triangleRunBody<kSingleQuad, kDepth, kBlendMode>(dc, chunk, begin, end, tile, walk, scratch,
+                                                     rc);
 }
 
 // The same run compiled for AVX2 when the CPU has it: the same SSE operations on the
@@ -377,8 +389,9 @@ __attribute__((target("avx2"))) void triangleRunAvx2(const DrawContext& dc,
                                                      const TriangleChunk& chunk,
                                                      uint32_t begin, uint32_t end,
                                                      const Box* tile, QuadWalkFn walk,
-                                                     RasterCounters& rc) {
-    triangleRunBody<kSingleQuad, kDepth, kBlendMode>(dc, chunk, begin, end, tile, walk, rc);
+                                                     WalkScratch& scratch, RasterCounters& rc) {
+    triangleRunBody<kSingleQuad, kDepth, kBlendMode>(dc, chunk, begin, end, tile, walk, scratch,
+                                                     rc);
 }
 
 template <bool kDepth, int kBlendMode>
@@ -435,8 +448,10 @@ void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks,
                       ty * kTileSize + kTileSize - 1};
     const QuadWalkFn walk = selectQuadWalk(dc);
     const TriangleRunFn run = selectTriangleRun(dc);
+    WalkScratch scratch;
     for (const TriangleChunk& chunk : chunks)
-        run(dc, chunk, chunk.binStart[tile], chunk.binStart[tile + 1], &tileBox, walk, rc);
+        run(dc, chunk, chunk.binStart[tile], chunk.binStart[tile + 1], &tileBox, walk, scratch,
+            rc);
     out.add(rc);
 }
 
@@ -449,8 +464,9 @@ namespace rg::raster::detail {
 // even-aligned in both cases, so splitting a box at tile edges or not visits the same
 // quads with the same coverage, and submission order is kept: the same bytes.
 void rasterizeChunk(const DrawContext& dc, const TriangleChunk& chunk, RasterCounters& rc) {
+    WalkScratch scratch;
     selectTriangleRun(dc)(dc, chunk, 0, uint32_t(chunk.tris.size()), nullptr,
-                          selectQuadWalk(dc), rc);
+                          selectQuadWalk(dc), scratch, rc);
 }
 
 }  // namespace rg::raster::detail
