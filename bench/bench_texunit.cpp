@@ -5,6 +5,9 @@
 //                        per-vertex directions, LINEAR_MIPMAP_LINEAR, MODULATE
 //   tex_two_stage_blend  4 full-screen quads, the PEM pass: cube map MODULATE diffuse,
 //                        then MODULATE by a 1D Fresnel texture, SRCALPHA/INVSRCALPHA blend
+//   tex_upload_rgb8      64 uploads of a 128² RGB8 image into one texture (lightfield's
+//                        swapped slices, 1024 of them a frame at paper quality); items are
+//                        texels; glTexSubImage2D into a GL_RGB8 texture on llvmpipe
 // and ours alone (llvmpipe has neither):
 //   pixel_texture_4d     a 640×480 drawPixels through a 16⁴ RGBA8 4D texture,
 //                        quadrilinear (sgi-octane-mxe)
@@ -242,6 +245,52 @@ void runLlvmpipe(benchmark::State& state, Workload w, int threads) {
     runMesaBenchmark(state, kWidth, kHeight, threads, setup, frame, int64_t(kQuads) * kWidth * kHeight);
 }
 
+// ---- texture upload ------------------------------------------------------------------
+constexpr int kUploadSize = 128, kUploads = 64;
+
+std::shared_ptr<const std::vector<std::vector<uint8_t>>> uploadImages() {
+    auto images = std::make_shared<std::vector<std::vector<uint8_t>>>(kUploads);
+    for (int k = 0; k < kUploads; ++k) {
+        auto& img = (*images)[size_t(k)];
+        img.resize(size_t(kUploadSize) * kUploadSize * 3);
+        for (size_t i = 0; i < img.size(); ++i) img[i] = uint8_t(mix(uint32_t(i) * 131u + uint32_t(k)));
+    }
+    return images;
+}
+
+void runUploadRetroglass(benchmark::State& state) {
+    const auto images = uploadImages();
+    TextureMemory mem(profile(ProfileId::SgiOctaneMxe));
+    auto t = mem.create({TextureTarget::Texture2D, TexelFormat::RGB8, kUploadSize, kUploadSize, 1, 1, 1});
+    for (auto _ : state) {
+        auto t0 = std::chrono::steady_clock::now();
+        for (const auto& img : *images) mem.upload(*t, 0, 0, img);
+        benchmark::DoNotOptimize(t->data8(0, 0));
+        state.SetIterationTime(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    state.SetItemsProcessed(state.iterations() * int64_t(kUploads) * kUploadSize * kUploadSize);
+}
+
+void runUploadLlvmpipe(benchmark::State& state, int threads) {
+    const auto images = uploadImages();
+    auto setup = [] {
+        GLuint name;
+        glGenTextures(1, &name);
+        glBindTexture(GL_TEXTURE_2D, name);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, kUploadSize, kUploadSize, 0, GL_RGB,
+                     GL_UNSIGNED_BYTE, nullptr);
+    };
+    auto frame = [images] {
+        for (const auto& img : *images)
+            glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, kUploadSize, kUploadSize, GL_RGB,
+                            GL_UNSIGNED_BYTE, img.data());
+    };
+    runMesaBenchmark(state, 64, 64, threads, setup, frame,
+                     int64_t(kUploads) * kUploadSize * kUploadSize);
+}
+
 // ---- ours alone ------------------------------------------------------------------------
 void runPixelTexture4D(benchmark::State& state, int threads) {
     const Profile& p = profile(ProfileId::SgiOctaneMxe);
@@ -336,6 +385,16 @@ const bool registered = addWorkloads([](const std::vector<int>& threadCounts) {
                 ->UseManualTime()
                 ->Unit(benchmark::kMillisecond);
         }
+        // An upload is one thread on both sides; registered per thread count so that the
+        // harness pairs it like the others.
+        benchmark::RegisterBenchmark(("tex_upload_rgb8/retroglass" + suffix).c_str(),
+                                     [](benchmark::State& s) { runUploadRetroglass(s); })
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(("tex_upload_rgb8/llvmpipe" + suffix).c_str(),
+                                     [t](benchmark::State& s) { runUploadLlvmpipe(s, t); })
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark(("pixel_texture_4d/retroglass" + suffix).c_str(),
                                      [t](benchmark::State& s) { runPixelTexture4D(s, t); })
             ->UseRealTime()

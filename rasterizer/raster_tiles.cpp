@@ -60,6 +60,11 @@ struct WalkScratch {
     std::array<tex::FragmentQuad, 2> fragment;
     sse::TexPlanes tplanes;
     sse::TexRowTerms trow;
+    // The colour planes a textured quad interpolates (sse::Planes::count): the same for
+    // every triangle of the draw, so decided once rather than per triangle.
+    int colorPlanes;
+    explicit WalkScratch(const DrawContext& dc)
+        : colorPlanes(dc.gouraud ? (specularRead(dc) ? 8 : 4) : 0) {}
 };
 
 // Covered pixels of row py: [l, r] ∩ box. Edge e is E = R + K·px with
@@ -232,7 +237,7 @@ void quadWalk(const DrawContext& dc, const SetupTriangle& t, const Plane* texPoo
     sse::TexRowTerms* const trow = &scratch.trow;
     if constexpr (!kPassThrough) {
         tplanes->load(texPool + t.texPlanes, dc.numTexSets);
-        planes.load(t, dc.gouraud ? (specularRead(dc) ? 8 : 4) : 0);  // 1/w: every quad
+        planes.load(t, scratch.colorPlanes);  // 1/w: every quad
     }
     // The AVX2 runs cover Gouraud colour without the specular add (raster_span_avx2.h).
     // Textured runs: any colour state.
@@ -448,7 +453,7 @@ void rasterizeTile(const DrawContext& dc, std::span<const TriangleChunk> chunks,
                       ty * kTileSize + kTileSize - 1};
     const QuadWalkFn walk = selectQuadWalk(dc);
     const TriangleRunFn run = selectTriangleRun(dc);
-    WalkScratch scratch;
+    WalkScratch scratch(dc);
     for (const TriangleChunk& chunk : chunks)
         run(dc, chunk, chunk.binStart[tile], chunk.binStart[tile + 1], &tileBox, walk, scratch,
             rc);
@@ -464,7 +469,7 @@ namespace rg::raster::detail {
 // even-aligned in both cases, so splitting a box at tile edges or not visits the same
 // quads with the same coverage, and submission order is kept: the same bytes.
 void rasterizeChunk(const DrawContext& dc, const TriangleChunk& chunk, RasterCounters& rc) {
-    WalkScratch scratch;
+    WalkScratch scratch(dc);
     selectTriangleRun(dc)(dc, chunk, 0, uint32_t(chunk.tris.size()), nullptr,
                           selectQuadWalk(dc), scratch, rc);
 }

@@ -99,6 +99,48 @@ TEST(TextureMemory, UploadsAreCountedPerFrame) {
     EXPECT_THROW(mem.upload(*t, 2, 0, std::vector<uint8_t>(2)), InvalidState);
 }
 
+// RGB8 and RGBA8 uploads (their own fast loops, texture_storage.cpp) against the
+// OpenGL 1.2 §3.8.1 / table 3.15 expansion written out here: RGB's missing alpha is 1.0,
+// i.e. 255; RGBA is taken as is. Every face and level of a cube map, so that the face
+// offset and the level's size are exercised, and random bytes so that no channel order
+// mix-up passes.
+TEST(TextureMemory, Rgb8AndRgba8UploadsExpandPerTheSpec) {
+    TextureMemory mem(profile(ProfileId::GeForce256));
+    uint32_t seed = 12345u;
+    auto next = [&] {
+        seed = seed * 1664525u + 1013904223u;
+        return uint8_t(seed >> 24);
+    };
+    for (TexelFormat f : {TexelFormat::RGB8, TexelFormat::RGBA8}) {
+        const int bpt = f == TexelFormat::RGB8 ? 3 : 4;
+        auto t = mem.create({TextureTarget::CubeMap, f, 8, 8, 1, 1, 4});
+        for (int face = 0; face < 6; ++face)
+            for (int level = 0; level < 4; ++level) {
+                const int n = 8 >> level;
+                std::vector<uint8_t> bytes(size_t(n) * n * bpt);
+                for (uint8_t& b : bytes) b = next();
+                mem.upload(*t, level, face, bytes);
+                for (int y = 0; y < n; ++y)
+                    for (int x = 0; x < n; ++x) {
+                        const uint8_t* p = &bytes[(size_t(y) * n + x) * bpt];
+                        const Rgba8 got = t->texel8(level, face, x, y, 0, 0);
+                        EXPECT_EQ(got.r, p[0]);
+                        EXPECT_EQ(got.g, p[1]);
+                        EXPECT_EQ(got.b, p[2]);
+                        EXPECT_EQ(got.a, bpt == 4 ? p[3] : 255);
+                        if (::testing::Test::HasFailure()) return;
+                    }
+            }
+        EXPECT_TRUE(t->complete());
+    }
+    // A second face's upload must not touch the first's texels.
+    auto t = mem.create({TextureTarget::CubeMap, TexelFormat::RGB8, 4, 4, 1, 1, 1});
+    mem.upload(*t, 0, 0, std::vector<uint8_t>(4 * 4 * 3, 7));
+    mem.upload(*t, 0, 1, std::vector<uint8_t>(4 * 4 * 3, 9));
+    EXPECT_EQ(t->texel8(0, 0, 3, 3, 0, 0).r, 7);
+    EXPECT_EQ(t->texel8(0, 1, 0, 0, 0, 0).r, 9);
+}
+
 TEST(TextureMemory, ProfileLimitsAndFeatures) {
     TextureMemory gf(profile(ProfileId::GeForce256));
     EXPECT_THROW(gf.create({TextureTarget::Texture2D, TexelFormat::RGBA8, 4096, 1, 1, 1, 1}),
