@@ -379,16 +379,28 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, VertexSource sou
         [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
         RG_TSAN_RELEASE(&forkJoin);
         arena->execute([&] {
-            // Vertices first, in blocks, then the triangle chunks: a barrier is cheaper than
-            // an atomic claim per vertex, and the blocks share out evenly.
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, source.size(), 2048),
-                              [&](const tbb::blocked_range<size_t>& r) {
-                                  RG_TSAN_ACQUIRE(&forkJoin);
-                                  processRange(r.begin(), r.end());
-                                  RG_TSAN_RELEASE(&forkJoin);
-                              });
-            RG_TSAN_ACQUIRE(&forkJoin);
-            RG_TSAN_RELEASE(&forkJoin);
+            // Each batch's vertices first (up to the highest one its chunks use, those not
+            // transformed for an earlier batch), in blocks, then its triangle chunks: a
+            // barrier is cheaper than an atomic claim per vertex, and the blocks share out
+            // evenly. Per batch rather than the whole draw's at once, as the one-thread
+            // path interleaves per chunk: the records setup reads are then still in cache
+            // (measured on hybrid's textured layer passes, 31,000 vertices of 200-byte
+            // records: setup took 3.4 times the CPU time of the one-thread path when all
+            // vertices came first). Meshes whose indices jump about transform everything
+            // at the first batch, as before.
+            size_t transformed = 0;
+            auto transformUpTo = [&](size_t needed) {
+                if (needed <= transformed) return;
+                tbb::parallel_for(tbb::blocked_range<size_t>(transformed, needed, 2048),
+                                  [&](const tbb::blocked_range<size_t>& r) {
+                                      RG_TSAN_ACQUIRE(&forkJoin);
+                                      processRange(r.begin(), r.end());
+                                      RG_TSAN_RELEASE(&forkJoin);
+                                  });
+                RG_TSAN_ACQUIRE(&forkJoin);
+                RG_TSAN_RELEASE(&forkJoin);
+                transformed = needed;
+            };
             // Then batches of chunks: set up and bin a batch in parallel, then
             // rasterize its tiles in parallel. The batches reuse the same chunk buffers, so
             // the SetupTriangles (256 bytes each) stay in cache between setup and
@@ -399,6 +411,19 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, VertexSource sou
             // pixel still sees its triangles in submission order.
             for (uint32_t c0 = 0; c0 < chunkCount; c0 += batch) {
                 const uint32_t n = std::min(batch, chunkCount - c0);
+                {
+                    const uint32_t b = c0 * kChunk, e = std::min(triangles, (c0 + n) * kChunk);
+                    uint32_t last = 0;
+                    if (primitive == Primitive::TriangleList && !indices.empty()) {
+                        for (uint32_t c = c0; c < c0 + n; ++c)
+                            last = std::max(last, chunkMaxIndex[c]);
+                    } else {
+                        last = lastVertexUsed(primitive, b, e, indices);
+                    }
+                    // (The last block's maximum also covers indices past the last whole
+                    // triangle: all valid, a few vertices transformed early.)
+                    transformUpTo(std::min(source.size(), size_t(last) + 1));
+                }
                 tbb::parallel_for(uint32_t(0), n, [&](uint32_t i) {
                     RG_TSAN_ACQUIRE(&forkJoin);
                     TriangleChunk& ch = chunks[i];
