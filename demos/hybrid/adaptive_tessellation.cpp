@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -394,21 +393,25 @@ AdaptiveMesh tessellateAdaptively(const LensObject& lens, const ray::Accel& loca
     // Where only the other side of a crease split the edge, this side makes its own
     // vertex there (traced below with the others of its kind).
     std::vector<uint32_t> creaseFresh;
-    std::function<void(uint32_t, uint32_t, std::vector<uint32_t>&)> along =
-        [&](uint32_t a, uint32_t b, std::vector<uint32_t>& out) {
-            uint32_t m = hash.find(a, b);
-            if (m == EdgeHash::kNone) {
-                const uint32_t pm = positionHash.find(mesh.positionId[a], mesh.positionId[b]);
-                if (pm == EdgeHash::kNone) {
-                    out.push_back(a);
-                    return;
-                }
-                m = newVertex(a, b, pm);
-                creaseFresh.push_back(m);
+    // (A generic lambda that calls itself, not a std::function: this runs for every edge
+    // of every leaf, and the indirect call kept the compiler from inlining the lookups.)
+    auto alongImpl = [&](auto& self, uint32_t a, uint32_t b, std::vector<uint32_t>& out) -> void {
+        uint32_t m = hash.find(a, b);
+        if (m == EdgeHash::kNone) {
+            const uint32_t pm = positionHash.find(mesh.positionId[a], mesh.positionId[b]);
+            if (pm == EdgeHash::kNone) {
+                out.push_back(a);
+                return;
             }
-            along(a, m, out);
-            along(m, b, out);
-        };
+            m = newVertex(a, b, pm);
+            creaseFresh.push_back(m);
+        }
+        self(self, a, m, out);
+        self(self, m, b, out);
+    };
+    auto along = [&](uint32_t a, uint32_t b, std::vector<uint32_t>& out) {
+        alongImpl(alongImpl, a, b, out);
+    };
     std::vector<uint32_t> ring, chain;
     std::vector<uint8_t> mask;
     for (const Tri& t : leaves) {
