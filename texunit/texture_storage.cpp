@@ -1,6 +1,7 @@
 // Texture storage and the emulated texture memory (docs/hardware.md, "Texture storage
 // and memory").
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstddef>
 #include <cstring>
@@ -18,7 +19,10 @@ namespace rg::tex {
 struct Texture::Pool {
     uint64_t capacity = 0;
     uint64_t resident = 0;
-    uint64_t uploadBytes = 0;
+    // Atomic: a texture nothing samples meanwhile may be uploaded on another thread while
+    // the device draws with the others (lightfield's swapped slices), and each draw reads
+    // the counter. A sum, so the order of the adds does not matter.
+    std::atomic<uint64_t> uploadBytes{0};
 };
 
 namespace {

@@ -2,6 +2,7 @@
 #include "gortler_renderer.h"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <tbb/task_group.h>
 
 #include "core/error.h"
 
@@ -69,6 +70,11 @@ glm::mat4 projectionMatrix(const ray::Camera& c, int width, int height) {
     return glm::perspectiveRH_ZO(glm::radians(c.fovYDegrees), float(width) / float(height), 0.05f, 100.0f);
 }
 
+// A group's upload in flight on a TBB task.
+struct SliceTextures::Pending {
+    tbb::task_group group;
+};
+
 SliceTextures::SliceTextures(std::shared_ptr<tex::TextureMemory> memory, const LightField& lf)
     : memory_(std::move(memory)), lf_(&lf) {
     const tex::TextureDesc d{tex::TextureTarget::Texture2D, lf.channels == 4 ? tex::TexelFormat::RGBA8 : tex::TexelFormat::RGB8,
@@ -83,20 +89,83 @@ SliceTextures::SliceTextures(std::shared_ptr<tex::TextureMemory> memory, const L
                 slices_.push_back(std::move(t));
             }
     } else {
-        stream_ = memory_->create(d);  // one slice's worth, refilled per eye point
+        // Two groups' worth of slices, refilled per eye point (fewer when the light field
+        // has fewer slices than that: it did not fit, so it has at least two).
+        const int slots = std::min(2 * kGroup, lf.slab.S * lf.slab.T);
+        for (int k = 0; k < slots; ++k) stream_.push_back(memory_->create(d));
     }
 }
 
+SliceTextures::~SliceTextures() { settle(); }
+
 uint64_t SliceTextures::sliceBytes() const { return lf_->sliceBytes(); }
+
+void SliceTextures::upload(int slot, const glm::ivec2& ij) {
+    memory_->upload(*stream_[size_t(slot)], 0, 0,
+                    std::span<const uint8_t>(lf_->slice(ij.x, ij.y), lf_->sliceBytes()));
+}
+
+void SliceTextures::uploadGroup(size_t group, bool async) {
+    const size_t begin = group * kGroup, end = std::min(order_.size(), begin + kGroup);
+    const int half = int(group % 2) * kGroup;
+    groupsUploaded_ = group + 1;
+    auto run = [this, begin, end, half] {
+        for (size_t e = begin; e < end; ++e) upload(half + int(e - begin), order_[e]);
+    };
+    if (!async) {
+        run();
+        return;
+    }
+    pending_ = std::make_unique<Pending>();
+    pending_->group.run(run);
+}
+
+void SliceTextures::beginSequence(std::vector<glm::ivec2> order, bool overlap) {
+    settle();
+    if (resident_) return;
+    order_ = std::move(order);
+    cursor_ = 0;
+    groupsUploaded_ = 0;
+    // Two groups need 2·kGroup slots.
+    overlap_ = overlap && stream_.size() == size_t(2 * kGroup);
+}
+
+void SliceTextures::settle() {
+    if (pending_) {
+        pending_->group.wait();
+        pending_.reset();
+    }
+    order_.clear();
+    cursor_ = 0;
+}
 
 std::shared_ptr<const tex::Texture> SliceTextures::slice(int i, int j) {
     const int k = j * lf_->slab.S + i;
     if (resident_) return slices_[size_t(k)];
-    if (streamed_ != k) {
-        memory_->upload(*stream_, 0, 0, std::span<const uint8_t>(lf_->slice(i, j), lf_->sliceBytes()));
-        streamed_ = k;
+    if (cursor_ < order_.size() && order_[cursor_] == glm::ivec2(i, j) &&
+        stream_.size() == size_t(2 * kGroup)) {
+        const size_t e = cursor_++;
+        if (e % kGroup == 0) {
+            // A group starts: its uploads have finished (or, at the first, happen now);
+            // the next group's start, on another thread when overlapping, into the other
+            // half, which held the group just drawn.
+            const size_t g = e / kGroup;
+            if (pending_) {
+                pending_->group.wait();
+                pending_.reset();
+            }
+            if (groupsUploaded_ <= g) uploadGroup(g, false);
+            if (e + kGroup < order_.size() && groupsUploaded_ <= g + 1) uploadGroup(g + 1, overlap_);
+        }
+        const int slot = int((e / kGroup) % 2) * kGroup + int(e % kGroup);
+        return stream_[size_t(slot)];
     }
-    return stream_;
+    // Off the sequence: end it, then upload now into the next slot in turn.
+    settle();
+    const int slot = next_;
+    next_ = (next_ + 1) % int(stream_.size());
+    upload(slot, {i, j});
+    return stream_[size_t(slot)];
 }
 
 glm::vec2 windowCoords(const LightSlab& s, const glm::vec3& eye, const glm::vec3& p) {
@@ -136,10 +205,24 @@ GortlerStats renderGortler(raster::Device& dev, SliceTextures& slices, const Lig
     tu.setStage(0, tex::texEnvStage(tex::TexEnvMode::Modulate, lf.channels == 4 ? tex::BaseFormat::Rgba : tex::BaseFormat::Rgb));
     GortlerStats stats;
     std::vector<raster::Vertex> verts;
+    // The eye points with polygons, in order; when the slices are swapped, the next group's
+    // uploads overlap this group's draws on a second thread (SliceTextures), unless the
+    // device runs on one thread.
+    std::vector<std::pair<glm::ivec2, std::vector<StTriangle>>> points;
     for (int j = 0; j < s.T; ++j)
         for (int i = 0; i < s.S; ++i) {
-            const std::vector<StTriangle> tris = eyePointTriangles(s, i, j, o.triangulation);
-            if (tris.empty()) continue;
+            std::vector<StTriangle> tris = eyePointTriangles(s, i, j, o.triangulation);
+            if (!tris.empty()) points.push_back({{i, j}, std::move(tris)});
+        }
+    {
+        std::vector<glm::ivec2> order;
+        for (const auto& p : points) order.push_back(p.first);
+        slices.beginSequence(std::move(order), dev.options().threads != 1);
+    }
+    for (size_t e = 0; e < points.size(); ++e) {
+        const int i = points[e].first.x, j = points[e].first.y;
+        const std::vector<StTriangle>& tris = points[e].second;
+        {
             verts.clear();
             for (const StTriangle& t : tris)
                 for (const glm::ivec2& g : t.v) {
@@ -157,6 +240,8 @@ GortlerStats renderGortler(raster::Device& dev, SliceTextures& slices, const Lig
             ++stats.eyePoints;
             stats.triangles += int(tris.size());
         }
+    }
+    slices.settle();
     stats.uploadBytes = slices.resident() ? 0 : uint64_t(stats.eyePoints) * slices.sliceBytes();
     return stats;
 }

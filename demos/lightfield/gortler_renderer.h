@@ -53,24 +53,50 @@ glm::mat4 projectionMatrix(const ray::Camera& c, int width, int height);
 
 // A light field's (u, v) slices as 2D textures of one profile's texture memory. When they
 // all fit beside what the memory already holds they are uploaded once (resident);
-// otherwise one texture is re-uploaded for every eye point of every frame (swapped: §5's
-// "these need to be swapped in and out for every frame"), which the memory's upload counter
-// shows.
+// otherwise each is uploaded for its eye point in every frame (swapped: §5's "these need to
+// be swapped in and out for every frame"), which the memory's upload counter shows.
+// Swapped slices go through 2·kGroup slots of the memory, two halves: given the frame's
+// order of eye points (beginSequence), a second thread uploads the next group of kGroup
+// slices into one half while the polygons of the current group are drawn from the other.
+// That changes no byte and no count: each slice is uploaded once, into a slot nothing reads
+// meanwhile, and settle() waits for the last upload before the frame's counter is read.
 class SliceTextures {
   public:
+    static constexpr int kGroup = 16;
+
     SliceTextures(std::shared_ptr<tex::TextureMemory> memory, const LightField& lf);
+    ~SliceTextures();
+    SliceTextures(const SliceTextures&) = delete;
+    SliceTextures& operator=(const SliceTextures&) = delete;
     bool resident() const { return resident_; }
-    // The texture holding slice (i, j), uploaded now when swapping.
+    // The slices the next slice() calls will ask for, in order ((i, j) pairs); with
+    // `overlap`, uploads run a group ahead on another thread. A slice() off the sequence
+    // ends it (everything after is uploaded when asked for).
+    void beginSequence(std::vector<glm::ivec2> order, bool overlap);
+    // The texture holding slice (i, j), uploaded by now when swapping.
     std::shared_ptr<const tex::Texture> slice(int i, int j);
+    // Waits for an upload in flight and ends the sequence.
+    void settle();
     uint64_t sliceBytes() const;
 
   private:
+    void uploadGroup(size_t group, bool async);  // the sequence's group into its half
+    void upload(int slot, const glm::ivec2& ij);
+
     std::shared_ptr<tex::TextureMemory> memory_;
     const LightField* lf_;
     bool resident_ = false;
     std::vector<std::shared_ptr<tex::Texture>> slices_;
-    std::shared_ptr<tex::Texture> stream_;
-    int streamed_ = -1;
+    // Swapping: the slots; eye point e of the sequence is in slot (e / kGroup mod 2)·kGroup
+    // + e mod kGroup.
+    std::vector<std::shared_ptr<tex::Texture>> stream_;
+    int next_ = 0;  // the slot an upload off the sequence goes to next
+    std::vector<glm::ivec2> order_;
+    size_t cursor_ = 0;
+    size_t groupsUploaded_ = 0;  // of the sequence: uploaded or in flight
+    bool overlap_ = false;
+    struct Pending;
+    std::unique_ptr<Pending> pending_;  // a group's upload in flight
 };
 
 struct GortlerOptions {

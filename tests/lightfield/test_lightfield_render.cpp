@@ -3,6 +3,8 @@
 // against the uncompressed rendering, VQ bad input, and the claims at a small setting.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -65,6 +67,58 @@ TEST(GortlerDevice, ConstantLightFieldReproducesItsColourWithWeightsSummingToOne
                 ASSERT_NEAR(c.a, 255, 2) << x << "," << y;
             }
         EXPECT_GT(inside, 1000);
+    }
+}
+
+// A light field that does not fit is swapped slice by slice through two groups of slots,
+// the next group uploaded on another thread while the current one is drawn
+// (SliceTextures). The oracle is the same light field drawn resident, uploaded once before
+// the frame: the same pixels, and the swapped frame counts one slice's bytes per eye point,
+// at every thread count and in a second frame through the same slots.
+TEST(GortlerDevice, SwappedSlicesDrawWhatResidentSlicesDraw) {
+    LightField lf;
+    lf.slab = slab(8, 16);  // 64 slices of 768 bytes: more than two groups of 16
+    lf.data.resize(lf.slab.samples() * 3);
+    uint32_t h = 7u;
+    for (uint8_t& b : lf.data) {
+        h = h * 747796405u + 2891336453u;
+        b = uint8_t(h >> 24);
+    }
+    const Profile& octane = profile(ProfileId::SgiOctaneMxe);
+    const uint64_t all = uint64_t(lf.slab.S) * lf.slab.T * lf.sliceBytes();
+    for (int threads : {1, 2, 3}) {
+        SCOPED_TRACE("threads " + std::to_string(threads));
+        auto residentMem = std::make_shared<tex::TextureMemory>(octane);
+        SliceTextures resident(residentMem, lf);
+        ASSERT_TRUE(resident.resident());
+        raster::Device ref(octane, 96, 96, raster::DepthFormat::None, {Path::Fast, threads});
+        ref.beginFrame();
+        renderGortler(ref, resident, lf, camera());
+        const std::vector<Rgba8> want = ref.readPixels(0, 0, 96, 96);
+
+        // Fill the memory until the light field no longer fits but the slots do.
+        auto mem = std::make_shared<tex::TextureMemory>(octane);
+        std::vector<std::shared_ptr<tex::Texture>> filler;
+        for (int n = 1024; n >= 8; n /= 2)
+            while (octane.textureMemoryBytes - mem->residentBytes() >= uint64_t(n) * n * 4 + all / 2)
+                filler.push_back(mem->create({tex::TextureTarget::Texture2D, tex::TexelFormat::RGBA8, n, n, 1, 1, 1}));
+        SliceTextures swapped(mem, lf);
+        ASSERT_FALSE(swapped.resident());
+        raster::Device dev(octane, 96, 96, raster::DepthFormat::None, {Path::Fast, threads});
+        for (int frame = 0; frame < 2; ++frame) {
+            dev.beginFrame();
+            mem->resetFrameCounters();
+            const GortlerStats st = renderGortler(dev, swapped, lf, camera());
+            EXPECT_EQ(mem->uploadBytes(), uint64_t(st.eyePoints) * lf.sliceBytes());
+            EXPECT_EQ(st.uploadBytes, mem->uploadBytes());
+            EXPECT_GE(st.eyePoints, 2 * SliceTextures::kGroup + 1);
+            const std::vector<Rgba8> got = dev.readPixels(0, 0, 96, 96);
+            ASSERT_EQ(got.size(), want.size());
+            size_t differ = 0;
+            for (size_t i = 0; i < got.size(); ++i)
+                differ += std::memcmp(&got[i], &want[i], sizeof(Rgba8)) != 0;
+            EXPECT_EQ(differ, 0u) << "frame " << frame;
+        }
     }
 }
 
