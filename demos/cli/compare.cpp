@@ -138,7 +138,8 @@ nlohmann::json runCompare(const CompareOptions& o) {
         considered += (considered.empty() ? "" : ", ") + r->name();
         const std::string object = r->appliesTo(scene);
         if (object.empty()) {
-            std::printf("compare: %s does not apply to scene '%s' (no object of its kind)\n",
+            std::printf("compare: %s does not apply to scene '%s' (no object of its kind, or no "
+                        "viewpoint path where it needs one)\n",
                         r->name().c_str(), scene.name.c_str());
             continue;
         }

@@ -46,7 +46,12 @@ class HybridReproduction final : public demos::Reproduction {
     std::string profile() const override { return "geforce256"; }
     nlohmann::json settings(demos::Quality quality) const override;
     nlohmann::json reproduce(const demos::ReproduceOptions& options) const override;
-    // Not in `retroglass compare` yet (no Technique): appliesTo stays the default, none.
+    // `retroglass compare`: the scene's first glass or mirror object names the technique's
+    // row; every glass and mirror object is a lens object (LensScene).
+    std::string appliesTo(const ray::Scene& scene) const override;
+    std::unique_ptr<demos::Technique> prepare(const ray::Scene& scene,
+                                              const std::vector<ray::Camera>& views,
+                                              const demos::PrepareOptions& options) const override;
     std::vector<demos::BenchCase> benchCases() const override;
     std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
 };

@@ -44,8 +44,9 @@ TEST(HybridClaims, EveryClaimIsReportedAtASmallSettingAndThePassCountsHold) {
     std::set<std::string> ids;
     for (const auto& c : r["claims"]) {
         ids.insert(c["id"].get<std::string>());
-        if (c["id"] == "passes_4n_2n" || c["id"] == "clustering_cup_columns_walls")
+        if (c["id"] == "passes_4n_2n" || c["id"] == "clustering_cup_columns_walls") {
             EXPECT_TRUE(c["holds"].get<bool>()) << c.dump(2);
+        }
     }
     for (const char* id : {"multi_beats_single_between", "multi_beats_single_above",
                            "single_layer_pops", "disocclusion_prevention_helps",

@@ -270,7 +270,9 @@ TEST(VqSwapping, IndexTexturesThatDoNotFitAreStreamedAndDrawTheSameFrame) {
                 const int w = 1024 >> ((k + 1) / 2), h = 512 >> (k / 2);
                 ballast.push_back(mem->create({tex::TextureTarget::Texture2D, tex::TexelFormat::RGBA8, w, h, 1, 1, 1}));
             }
-        if (fill) EXPECT_EQ(mem->residentBytes(), octane.textureMemoryBytes - 1024);
+        if (fill) {
+            EXPECT_EQ(mem->residentBytes(), octane.textureMemoryBytes - 1024);
+        }
         const VqTextures tx(mem, vq);
         *resident = tx.resident();
         raster::Device dev(octane, kSize, kSize, raster::DepthFormat::None);
