@@ -19,7 +19,7 @@
 #include "raster_tiles.h"
 #include "rasterizer/trace.h"
 
-#include "tsan_annotations.h"
+#include "core/tsan_annotations.h"
 
 namespace rg::raster {
 

@@ -12,7 +12,7 @@
 #include "rasterizer/trace.h"
 #include "rasterizer/device.h"
 #include "rasterizer/fragment_ops.h"
-#include "tsan_annotations.h"
+#include "core/tsan_annotations.h"
 
 namespace rg::raster {
 

@@ -21,7 +21,7 @@
 #include "rasterizer/fragment_ops.h"
 #include "rasterizer/trace.h"
 #include "raster_tiles.h"
-#include "tsan_annotations.h"
+#include "core/tsan_annotations.h"
 #include "texunit/format.h"
 #include "texunit/program_fetch.h"
 

@@ -1286,6 +1286,45 @@ demos::BenchCase octaneFrameCase(const std::string& name, demos::Quality quality
     return c;
 }
 
+// §4's O2 frame at 400²: the Gortler reconstruction, the read-back, the software lookup
+// on the CPU and the write-back (the route `reproduce lightfield` times as software_sgi_o2).
+demos::BenchCase o2FrameCase(const std::string& name, demos::Quality quality) {
+    demos::BenchCase c;
+    c.name = name;
+    c.paper = {{"paper_fps", 10.0}, {"goal_fps", 60.0}};  // "about 10 frames per second"
+    c.setup = [quality](int threads) {
+        auto f = benchFixture(threads, quality);
+        struct Frame {
+            std::shared_ptr<BenchFixture> f;
+            std::shared_ptr<tex::TextureMemory> mem;
+            std::unique_ptr<SliceTextures> slices;
+            std::unique_ptr<raster::Device> dev;
+            int threads = 0;
+        };
+        auto fr = std::make_shared<Frame>();
+        fr->f = f;
+        fr->threads = threads;
+        const Profile& o2 = rg::profile(ProfileId::SgiO2);
+        fr->mem = std::make_shared<tex::TextureMemory>(o2);
+        fr->slices = std::make_unique<SliceTextures>(fr->mem, f->geo);
+        fr->dev = std::make_unique<raster::Device>(o2, 400, 400, raster::DepthFormat::None, raster::DeviceOptions{Path::Fast, threads});
+        return std::function<std::map<std::string, double>()>([fr] {
+            raster::Device& d = *fr->dev;
+            d.beginFrame();
+            fr->mem->resetFrameCounters();
+            renderGortler(d, *fr->slices, fr->f->geo, evalCamera(1));
+            std::vector<Rgba8> px = d.readPixels(0, 0, 400, 400);
+            fr->f->lookup->apply(px, fr->threads);
+            d.drawPixels(0, 0, 400, 400, px);
+            d.endFrame();
+            return std::map<std::string, double>{
+                {"fragments", double(d.counters().fragmentsGenerated)},
+                {"upload_bytes", double(fr->mem->uploadBytes())}};
+        });
+    };
+    return c;
+}
+
 }  // namespace
 
 std::unique_ptr<viewer::Demo> LightfieldReproduction::makeDemo(const viewer::DemoOptions& options) const {
@@ -1300,6 +1339,7 @@ std::vector<demos::BenchCase> LightfieldReproduction::benchCases() const {
     // is drawn (48 MiB a frame), as `reproduce lightfield --quality paper` times it.
     cases.push_back(octaneFrameCase("lightfield_pixel_texture_400", demos::Quality::Quick));
     cases.push_back(octaneFrameCase("lightfield_pixel_texture_400_paper", demos::Quality::Paper));
+    cases.push_back(o2FrameCase("lightfield_software_o2_400_paper", demos::Quality::Paper));
     {
         // The O2's software lookup of one 400² read-back, against a plain float loop doing
         // the same trilinear lookup (llvmpipe has no pixel texture: ours only otherwise).

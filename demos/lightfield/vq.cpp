@@ -14,6 +14,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/tsan_annotations.h"
 
 namespace rg::lightfield {
 
@@ -108,16 +109,22 @@ void assign(const MatrixF& X, const MatrixF& C, std::vector<int>& label, int thr
     const int chunks = int((X.rows() + kChunk - 1) / kChunk);
     tbb::enumerable_thread_specific<AssignScratch> scratch;
     tbb::task_arena arena(threads > 0 ? threads : tbb::this_task_arena::max_concurrency());
+    [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
+    RG_TSAN_RELEASE(&forkJoin);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, chunks), [&](const tbb::blocked_range<int>& r) {
+            RG_TSAN_ACQUIRE(&forkJoin);
             AssignScratch& s = scratch.local();
             for (int c = r.begin(); c != r.end(); ++c) {
                 const Eigen::Index a = Eigen::Index(c) * kChunk;
                 const int n = int(std::min<Eigen::Index>(kChunk, X.rows() - a));
                 assignChunk(X, C, cn, a, n, s, label.data() + a);
             }
+            RG_TSAN_RELEASE(&forkJoin);
         });
     });
+    // The per-thread scratch is destroyed here, after the join.
+    RG_TSAN_ACQUIRE(&forkJoin);
 }
 
 // The index as an index texture holds it. The colour table reads entry

@@ -1,7 +1,7 @@
-// Internal to rasterizer/: ThreadSanitizer cannot see TBB's own fork and join (libtbb is
-// not instrumented), so the parallel loops state them explicitly (tests/sanitize.sh
-// thread): RELEASE before the fork and at the end of each task, ACQUIRE at the start of
-// each task and after the join, all on one address per loop.
+// ThreadSanitizer cannot see TBB's own fork and join (libtbb is not instrumented), so the
+// parallel loops state them explicitly (tests/sanitize.sh thread): RELEASE before the fork
+// and at the end of each task, ACQUIRE at the start of each task and after the join, all on
+// one address per loop.
 #pragma once
 
 #if defined(__SANITIZE_THREAD__)
