@@ -216,9 +216,6 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, VertexSource sou
     // Meshes of at least this many triangles go through drawInBands on several threads;
     // smaller draws of large triangles (fills) share their pixels out better in tiles.
     constexpr uint32_t kBandMinTriangles = 4 * kChunk;
-    // Batches whose triangles' boxes add up to at most this many pixels (four tiles)
-    // are rasterized on the calling thread (below).
-    constexpr uint64_t kSerialBatchPixels = 4 * kTileSize * kTileSize;
     std::vector<uint32_t> chunkMaxIndex;
     chunkMaxIndex.reserve((indices.size() + 3 * kChunk - 1) / (3 * kChunk));
     uint32_t maxIndex = 0;
@@ -439,18 +436,6 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, VertexSource sou
                 });
                 RG_TSAN_ACQUIRE(&forkJoin);
                 RG_TSAN_RELEASE(&forkJoin);
-                // A batch of a few hundred pixels (lightfield's Gortler polygons: 1024
-                // draws of ~500 fragments a frame) costs less than waking the other
-                // threads for its tiles: rasterized here, chunk by chunk over whole boxes
-                // as the one-thread path does (the same quads, the same order, the same
-                // bytes). Measured: 2 threads took 1.4× the one-thread frame before.
-                uint64_t batchPixels = 0;
-                for (uint32_t i = 0; i < n; ++i) batchPixels += chunks[i].boxPixels;
-                if (batchPixels <= kSerialBatchPixels) {
-                    for (uint32_t i = 0; i < n; ++i) rasterizeChunk(dc, chunks[i], rc);
-                    for (uint32_t i = 0; i < n; ++i) gc.add(chunks[i].geometry);
-                    continue;
-                }
                 tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
                     RG_TSAN_ACQUIRE(&forkJoin);
                     rasterizeTile(dc, std::span<const TriangleChunk>(chunks.data(), n), tile,

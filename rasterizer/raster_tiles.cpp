@@ -23,9 +23,7 @@ void binChunk(TriangleChunk& chunk, int tilesX, int tilesY) {
     const int tiles = tilesX * tilesY;
     chunk.binStart.assign(size_t(tiles) + 1, 0);
     uint32_t* bin = chunk.binStart.data();
-    uint64_t boxPixels = 0;
     for (const SetupTriangle& t : chunk.tris) {
-        boxPixels += uint64_t(t.maxX - t.minX + 1) * uint64_t(t.maxY - t.minY + 1);
         const int tx0 = t.minX >> kTileShift, tx1 = t.maxX >> kTileShift;
         const int ty0 = t.minY >> kTileShift, ty1 = t.maxY >> kTileShift;
         if (tx0 == tx1 && ty0 == ty1) {  // the common case: inside one tile
@@ -35,7 +33,6 @@ void binChunk(TriangleChunk& chunk, int tilesX, int tilesY) {
         for (int ty = ty0; ty <= ty1; ++ty)
             for (int tx = tx0; tx <= tx1; ++tx) ++bin[ty * tilesX + tx];
     }
-    chunk.boxPixels = boxPixels;
     for (int i = 1; i < tiles; ++i) bin[i] += bin[i - 1];
     bin[tiles] = tiles > 0 ? bin[tiles - 1] : 0;
     chunk.binItems.resize(bin[tiles]);

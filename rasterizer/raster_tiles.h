@@ -19,7 +19,6 @@ struct TriangleChunk {
     std::vector<Plane> texPlanes;    // texture-coordinate planes of `tris`
     std::vector<uint32_t> binStart;  // per tile: first entry in binItems (size tiles + 1)
     std::vector<uint32_t> binItems;  // triangle numbers within `tris`, in order
-    uint64_t boxPixels = 0;          // the triangles' bounding boxes summed (binChunk)
     GeometryCounters geometry;
 };
 
