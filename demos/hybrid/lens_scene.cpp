@@ -146,11 +146,12 @@ LensScene::LensScene(ray::Scene scene, const LensSceneOptions& options) : scene_
         std::vector<uint32_t> byPosition;
         for (uint32_t v : L.indices) byPosition.push_back(L.positionId[v]);
         L.closedManifold = closedAfterWelding(byPosition);
-        if (!L.closedManifold)
-            warnings_.push_back(where + ": lens object '" + L.name + "' is " +
-                                (L.twoTerms ? "glass" : "a mirror") +
-                                " but its mesh is open or not a 2-manifold even after welding "
-                                "(refracted paths may leave through holes; rendered anyway)");
+        // Only refraction needs an inside: a mirror's paths reflect off its surface, open
+        // or not.
+        if (!L.closedManifold && L.twoTerms)
+            warnings_.push_back(where + ": lens object '" + L.name +
+                                "' is glass but its mesh is open or not a 2-manifold even after "
+                                "welding (refracted paths may leave through holes; rendered anyway)");
         L.origin = ray::areaWeightedCentroid(world);
         for (const glm::vec3& p : L.positions)
             L.boundingRadius = std::max(L.boundingRadius, glm::length(p - L.origin));

@@ -266,6 +266,16 @@ TEST(HybridBadInput, AnOpenGlassMeshIsAWarningNamingIt) {
     EXPECT_TRUE(named);
     EXPECT_FALSE(ls.objects()[0].closedManifold);
     EXPECT_TRUE(ls.objects()[1].closedManifold) << "the mirror box is closed";
+
+    // A mirror needs no inside: an open one is drawn without a warning about it.
+    ray::Mesh openBox = s.meshes[s.objects[1].mesh];
+    openBox.indices.resize(openBox.indices.size() - 3);
+    s.objects[1].mesh = uint32_t(s.meshes.size());
+    s.meshes.push_back(openBox);
+    LensScene withOpenMirror(s, LensSceneOptions{});
+    EXPECT_FALSE(withOpenMirror.objects()[1].closedManifold);
+    for (const std::string& w : withOpenMirror.warnings())
+        EXPECT_EQ(w.find("lens object 'box'"), std::string::npos) << w;
 }
 
 }  // namespace
