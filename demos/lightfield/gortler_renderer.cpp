@@ -5,6 +5,7 @@
 #include <tbb/task_group.h>
 
 #include "core/error.h"
+#include "core/tsan_annotations.h"
 
 namespace rg::lightfield {
 
@@ -70,9 +71,15 @@ glm::mat4 projectionMatrix(const ray::Camera& c, int width, int height) {
     return glm::perspectiveRH_ZO(glm::radians(c.fovYDegrees), float(width) / float(height), 0.05f, 100.0f);
 }
 
-// A group's upload in flight on a TBB task.
+// A group's upload in flight on a TBB task. TSan cannot see the task_group's fork and
+// join inside libtbb: the upload's end and the wait state them on `edge`.
 struct SliceTextures::Pending {
     tbb::task_group group;
+    int edge = 0;
+    void wait() {
+        group.wait();
+        RG_TSAN_ACQUIRE(&edge);
+    }
 };
 
 SliceTextures::SliceTextures(std::shared_ptr<tex::TextureMemory> memory, const LightField& lf)
@@ -117,7 +124,12 @@ void SliceTextures::uploadGroup(size_t group, bool async) {
         return;
     }
     pending_ = std::make_unique<Pending>();
-    pending_->group.run(run);
+    RG_TSAN_RELEASE(&pending_->edge);
+    pending_->group.run([run, edge = &pending_->edge] {
+        RG_TSAN_ACQUIRE(edge);
+        run();
+        RG_TSAN_RELEASE(edge);
+    });
 }
 
 void SliceTextures::beginSequence(std::vector<glm::ivec2> order, bool overlap) {
@@ -132,7 +144,7 @@ void SliceTextures::beginSequence(std::vector<glm::ivec2> order, bool overlap) {
 
 void SliceTextures::settle() {
     if (pending_) {
-        pending_->group.wait();
+        pending_->wait();
         pending_.reset();
     }
     order_.clear();
@@ -151,7 +163,7 @@ std::shared_ptr<const tex::Texture> SliceTextures::slice(int i, int j) {
             // half, which held the group just drawn.
             const size_t g = e / kGroup;
             if (pending_) {
-                pending_->group.wait();
+                pending_->wait();
                 pending_.reset();
             }
             if (groupsUploaded_ <= g) uploadGroup(g, false);
