@@ -103,7 +103,14 @@ SliceTextures::SliceTextures(std::shared_ptr<tex::TextureMemory> memory, const L
     }
 }
 
-SliceTextures::~SliceTextures() { settle(); }
+SliceTextures::~SliceTextures() {
+    // An upload in flight must finish before the slots go; its error, if any, has no one
+    // left to report to (the frame that asked for it already ended by an exception).
+    try {
+        settle();
+    } catch (...) {
+    }
+}
 
 uint64_t SliceTextures::sliceBytes() const { return lf_->sliceBytes(); }
 
