@@ -1300,17 +1300,42 @@ void pick(QuadSampler& q, Addr s, Addr t) {
 
 }  // namespace
 
+// Formats whose every texel has alpha 255 (OpenGL 1.2 table 3.15: L → (L, L, L, 1), RGB →
+// (R, G, B, 1)); filtering 255s gives 255, and the compiled samplers have no border colour.
+bool opaqueFormat(TexelFormat f) {
+    return f == TexelFormat::L8 || f == TexelFormat::RGB8 || f == TexelFormat::RGB565;
+}
+
 void compileCascade(CompiledStages& c, int active, uint32_t sampling) {
     c.cascade = nullptr;
     c.cascadePair = nullptr;
     if (active < 1 || active > 2 || c.sharesFootprint != 0) return;
+    // GL MODULATE of a texture without alpha (texEnvStage(Modulate, RGB or L)) keeps the
+    // fragment's alpha: colour MODULATE, alpha SELECTARG1 of CURRENT. Its texels' alpha is
+    // 255, and mulDiv255(255, a) = a for every byte a ((255a + 128 + ((255a + 128) >> 8))
+    // >> 8 = a), so the stage is MODULATE of both, which the cascades below run: the same
+    // bytes through the whole-quad kernels instead of the generic stage loop.
+    decltype(c.state) state = c.state;
     for (int i = 0; i < active; ++i) {
-        const StageState& st = c.state[size_t(i)];
+        StageState& st = state[size_t(i)];
+        const QuadSampler& q = c.stage[size_t(i)];
+        if ((sampling & (1u << i)) && q.fn && q.texture && opaqueFormat(q.texture->desc().format) &&
+            quad::StageKernel(c.stageKernel[size_t(i)]) == quad::StageKernel::ModulateSelect1 &&
+            st.colorOp == TextureOp::Modulate && st.alphaOp == TextureOp::SelectArg1 &&
+            st.alphaArg1 == arg::Current && st.alphaScaleShift == 0) {
+            st.alphaOp = TextureOp::Modulate;
+            st.alphaArg1 = arg::Texture;
+            st.alphaArg2 = arg::Current;
+        }
+    }
+    for (int i = 0; i < active; ++i) {
+        const StageState& st = state[size_t(i)];
         if (!(sampling & (1u << i)) || !c.stage[size_t(i)].fn ||
-            quad::StageKernel(c.stageKernel[size_t(i)]) != quad::StageKernel::ModulateModulate ||
+            quad::stageKernel(st) != quad::StageKernel::ModulateModulate ||
             st.colorOp != TextureOp::Modulate || st.alphaOp != TextureOp::Modulate)
             return;
     }
+    c.state = state;
     const QuadSampleFn f0 = c.stage[0].fn;
     const bool texCur = texCurOnly(c, active);
     auto one = [&]<Target kT, Addr kS, Addr kU>() {

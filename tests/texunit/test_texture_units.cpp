@@ -629,6 +629,81 @@ void cascadesAgainstReference(int& pairs) {  // pairs: how many shadeQuadPair ca
         ASSERT_EQ(refFetches, fastFetches) << "state " << stateI;
     }
 }
+// GL MODULATE of a texture without alpha (OpenGL 1.2 table 3.18, base RGB or LUMINANCE:
+// C = Cf·Ct, A = Af) takes the whole-quad cascades (compileCascade runs it as MODULATE of
+// both, the texels' alpha being 255): lightfield's Gortler polygons. Against the reference
+// and against the table itself (the alpha is the fragment's, byte for byte), for RGB8, L8
+// and RGB565 textures, both address modes, with and without mipmaps, quad by quad and in
+// pairs; the cascade must be compiled where the AVX2 kernels run.
+TEST(TextureUnits, ModulateOfATextureWithoutAlphaTakesTheCascades) {
+    const Profile& g8 = profile(ProfileId::GeForce8800);
+    auto mem = std::make_shared<TextureMemory>(g8);
+    const bool avx2 = __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
+    Rng rng(777);
+    int pairs = 0;
+    for (TexelFormat f : {TexelFormat::RGB8, TexelFormat::L8, TexelFormat::RGB565}) {
+        const int bpt = f == TexelFormat::RGB8 ? 3 : f == TexelFormat::L8 ? 1 : 2;
+        for (int levels : {1, 5}) {
+            auto t = mem->create({TextureTarget::Texture2D, f, 16, 16, 1, 1, levels});
+            for (int l = 0; l < levels; ++l) {
+                std::vector<uint8_t> bytes(size_t(16 >> l) * size_t(16 >> l) * size_t(bpt));
+                for (uint8_t& b : bytes) b = uint8_t(rng.next());
+                mem->upload(*t, l, 0, bytes);
+            }
+            for (bool edge : {true, false}) {
+                SCOPED_TRACE(std::string(formatInfo(f).name) + ", " + std::to_string(levels) +
+                             " levels, " + (edge ? "CLAMP_TO_EDGE" : "REPEAT"));
+                TextureUnits tu;
+                tu.setTexture(0, t);
+                SamplerState s;
+                const AddressMode m = edge ? AddressMode::ClampToEdge : AddressMode::Wrap;
+                s.address = {m, m, m, m};
+                s.magFilter = s.minFilter = FilterMode::Linear;
+                s.mipFilter = levels > 1 ? MipMode::Linear : MipMode::None;
+                tu.setSampler(0, s);
+                tu.setStage(0, texEnvStage(TexEnvMode::Modulate,
+                                           f == TexelFormat::L8 ? BaseFormat::Luminance : BaseFormat::Rgb));
+                if (avx2) {
+                    EXPECT_TRUE(tu.shadesPairs()) << "no cascade compiled";
+                }
+                FragmentQuadPair pair;
+                std::array<Rgba8, 4> ref[2];
+                for (int k = 0; k < 64; ++k) {
+                    FragmentQuad q;
+                    const glm::vec4 base{rng.uniform(-2, 2), rng.uniform(-2, 2), 0.0f, 1.0f};
+                    const float scale = std::exp2(rng.uniform(-7, 1));
+                    for (int p = 0; p < 4; ++p) {
+                        q.texCoord[0][size_t(p)] = base + scale * glm::vec4(float(p & 1), float(p >> 1), 0, 0);
+                        q.diffuse[size_t(p)] = {uint8_t(rng.next()), uint8_t(rng.next()), uint8_t(rng.next()),
+                                                uint8_t(rng.next())};
+                    }
+                    std::array<Rgba8, 4> fast;
+                    const int h = k & 1;
+                    tu.shadeQuad(q, ref[h], Path::Reference);
+                    tu.shadeQuad(q, fast, Path::Fast);
+                    ASSERT_EQ(ref[h], fast) << "quad " << k;
+                    for (int p = 0; p < 4; ++p) ASSERT_EQ(fast[size_t(p)].a, q.diffuse[size_t(p)].a) << "quad " << k;
+                    if (!tu.shadesPairs()) continue;
+                    for (int p = 0; p < 4; ++p) {
+                        for (int c = 0; c < 4; ++c) pair.texCoord[0][c][4 * h + p] = q.texCoord[0][size_t(p)][c];
+                        pair.diffuse[size_t(4 * h + p)] = q.diffuse[size_t(p)];
+                    }
+                    if (h == 0) continue;
+                    pair.coverage = {0xF, 0xF};
+                    std::array<Rgba8, 8> both;
+                    tu.shadeQuadPair(pair, both);
+                    for (int g = 0; g < 2; ++g)
+                        for (int p = 0; p < 4; ++p) ASSERT_EQ(ref[g][size_t(p)], both[size_t(4 * g + p)]) << "pair " << k;
+                    ++pairs;
+                }
+            }
+        }
+    }
+    if (avx2) {
+        EXPECT_GT(pairs, 300);
+    }
+}
+
 TEST(TextureUnits, CascadesMatchReference) {
     for (bool avx2 : {true, false}) {
         SCOPED_TRACE(avx2 ? "AVX2 kernels allowed" : "SSE2 kernels");
