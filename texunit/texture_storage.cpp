@@ -225,29 +225,23 @@ void TextureMemory::upload(Texture& t, int level, int face, std::span<const uint
     // The two formats light fields and environment maps arrive in, without the per-texel
     // format switch of expandTexel8 (a 32·32·128·128 RGB8 light field swapped in every
     // frame spent ~50 ms there): RGBA8 is stored as it comes; RGB8 gains alpha 255
-    // (glTexImage2D's RGB: A = 1.0). The same bytes as the loop below.
+    // (glTexImage2D's RGB: A = 1.0). The same bytes as the general loop.
     if (t.desc().format == TexelFormat::RGBA8) {
         static_assert(sizeof(Rgba8) == 4 && offsetof(Rgba8, r) == 0 && offsetof(Rgba8, a) == 3);
         std::memcpy(lv.texels8.data() + off, bytes.data(), expect);
-        lv.uploaded[size_t(face)] = true;
-        pool_->uploadBytes += expect;
-        return;
-    }
-    if (t.desc().format == TexelFormat::RGB8) {
+    } else if (t.desc().format == TexelFormat::RGB8) {
         expandRgb8(bytes.data(), lv.texels8.data() + off, lv.count);
-        lv.uploaded[size_t(face)] = true;
-        pool_->uploadBytes += expect;
-        return;
-    }
-    for (size_t i = 0; i < lv.count; ++i) {
-        const uint8_t* p = bytes.data() + i * size_t(fi.bytesPerTexel);
-        if (t.singleChannel_)
-            lv.texelsR[off + i] = expandTexelFloat(t.desc().format, p).x;
-        else if (fi.isFloat)
-            lv.texelsF[off + i] = expandTexelFloat(t.desc().format, p);
-        else
-            lv.texels8[off + i] = expandTexel8(t.desc().format, p);
-        if (t.is16()) lv.texels16[off + i] = uint16_t(p[0] | (p[1] << 8));
+    } else {
+        for (size_t i = 0; i < lv.count; ++i) {
+            const uint8_t* p = bytes.data() + i * size_t(fi.bytesPerTexel);
+            if (t.singleChannel_)
+                lv.texelsR[off + i] = expandTexelFloat(t.desc().format, p).x;
+            else if (fi.isFloat)
+                lv.texelsF[off + i] = expandTexelFloat(t.desc().format, p);
+            else
+                lv.texels8[off + i] = expandTexel8(t.desc().format, p);
+            if (t.is16()) lv.texels16[off + i] = uint16_t(p[0] | (p[1] << 8));
+        }
     }
     lv.uploaded[size_t(face)] = true;
     pool_->uploadBytes += expect;

@@ -1249,73 +1249,43 @@ Rgba8 plainLookup(const HostTexture& t, Rgba8 px) {
     return {uint8_t(acc.x + 0.5f), uint8_t(acc.y + 0.5f), uint8_t(acc.z + 0.5f), px.a};
 }
 
-demos::BenchCase octaneFrameCase(const std::string& name, demos::Quality quality) {
-    demos::BenchCase c;
-    c.name = name;
-    // "between 15 and 20 fps" on an Octane MXE; the goal is 60.
-    c.paper = {{"paper_fps", 17.5}, {"goal_fps", 60.0}};
-    c.setup = [quality](int threads) {
-        auto f = benchFixture(threads, quality);
-        struct Frame {
-            std::shared_ptr<BenchFixture> f;
-            std::shared_ptr<tex::TextureMemory> mem;
-            std::unique_ptr<SliceTextures> slices;
-            std::shared_ptr<tex::Texture> env;
-            std::unique_ptr<raster::Device> dev;
-        };
-        auto fr = std::make_shared<Frame>();
-        fr->f = f;
-        const Profile& octane = rg::profile(ProfileId::SgiOctaneMxe);
-        fr->mem = std::make_shared<tex::TextureMemory>(octane);
-        fr->env = uploadParaboloidMap(*fr->mem, f->env);
-        fr->slices = std::make_unique<SliceTextures>(fr->mem, f->geo);
-        fr->dev = std::make_unique<raster::Device>(octane, 400, 400, raster::DepthFormat::None, raster::DeviceOptions{Path::Fast, threads});
-        return std::function<std::map<std::string, double>()>([fr] {
-            raster::Device& d = *fr->dev;
-            d.beginFrame();
-            fr->mem->resetFrameCounters();
-            renderGortler(d, *fr->slices, fr->f->geo, evalCamera(1));
-            const std::vector<Rgba8> px = d.readPixels(0, 0, 400, 400);
-            pixelTextureLookup(d, fr->env, tex::PixelTexGenMode::Rgb, px);
-            d.endFrame();
-            return std::map<std::string, double>{
-                {"fragments", double(d.counters().fragmentsGenerated)},
-                {"upload_bytes", double(fr->mem->uploadBytes())}};
-        });
-    };
-    return c;
-}
+// §4's whole frame at 400² on either machine: the Gortler reconstruction, the read-back,
+// then the Octane's pixel texture lookup, or the O2's software lookup on the CPU and the
+// write-back (the routes `reproduce lightfield` times).
+enum class Route { OctanePixelTexture, O2Software };
 
-// §4's O2 frame at 400²: the Gortler reconstruction, the read-back, the software lookup
-// on the CPU and the write-back (the route `reproduce lightfield` times as software_sgi_o2).
-demos::BenchCase o2FrameCase(const std::string& name, demos::Quality quality) {
+demos::BenchCase frameCase(const std::string& name, demos::Quality quality, Route route) {
     demos::BenchCase c;
     c.name = name;
-    c.paper = {{"paper_fps", 10.0}, {"goal_fps", 60.0}};  // "about 10 frames per second"
-    c.setup = [quality](int threads) {
-        auto f = benchFixture(threads, quality);
+    // "between 15 and 20 fps" on an Octane MXE, "about 10" on the O2; the goal is 60.
+    c.paper = {{"paper_fps", route == Route::OctanePixelTexture ? 17.5 : 10.0}, {"goal_fps", 60.0}};
+    c.setup = [quality, route](int threads) {
         struct Frame {
             std::shared_ptr<BenchFixture> f;
             std::shared_ptr<tex::TextureMemory> mem;
             std::unique_ptr<SliceTextures> slices;
+            std::shared_ptr<tex::Texture> env;  // the Octane's paraboloid map
             std::unique_ptr<raster::Device> dev;
-            int threads = 0;
         };
         auto fr = std::make_shared<Frame>();
-        fr->f = f;
-        fr->threads = threads;
-        const Profile& o2 = rg::profile(ProfileId::SgiO2);
-        fr->mem = std::make_shared<tex::TextureMemory>(o2);
-        fr->slices = std::make_unique<SliceTextures>(fr->mem, f->geo);
-        fr->dev = std::make_unique<raster::Device>(o2, 400, 400, raster::DepthFormat::None, raster::DeviceOptions{Path::Fast, threads});
-        return std::function<std::map<std::string, double>()>([fr] {
+        fr->f = benchFixture(threads, quality);
+        const Profile& p = rg::profile(route == Route::OctanePixelTexture ? ProfileId::SgiOctaneMxe : ProfileId::SgiO2);
+        fr->mem = std::make_shared<tex::TextureMemory>(p);
+        if (route == Route::OctanePixelTexture) fr->env = uploadParaboloidMap(*fr->mem, fr->f->env);
+        fr->slices = std::make_unique<SliceTextures>(fr->mem, fr->f->geo);
+        fr->dev = std::make_unique<raster::Device>(p, 400, 400, raster::DepthFormat::None, raster::DeviceOptions{Path::Fast, threads});
+        return std::function<std::map<std::string, double>()>([fr, route, threads] {
             raster::Device& d = *fr->dev;
             d.beginFrame();
             fr->mem->resetFrameCounters();
             renderGortler(d, *fr->slices, fr->f->geo, evalCamera(1));
             std::vector<Rgba8> px = d.readPixels(0, 0, 400, 400);
-            fr->f->lookup->apply(px, fr->threads);
-            d.drawPixels(0, 0, 400, 400, px);
+            if (route == Route::OctanePixelTexture) {
+                pixelTextureLookup(d, fr->env, tex::PixelTexGenMode::Rgb, px);
+            } else {
+                fr->f->lookup->apply(px, threads);
+                d.drawPixels(0, 0, 400, 400, px);
+            }
             d.endFrame();
             return std::map<std::string, double>{
                 {"fragments", double(d.counters().fragmentsGenerated)},
@@ -1337,9 +1307,9 @@ std::vector<demos::BenchCase> LightfieldReproduction::benchCases() const {
     // quick quality's light field, which fits the 4 MiB of texture memory, and at paper
     // quality's 32·32·128·128, which does not: every slice is swapped in as its eye point
     // is drawn (48 MiB a frame), as `reproduce lightfield --quality paper` times it.
-    cases.push_back(octaneFrameCase("lightfield_pixel_texture_400", demos::Quality::Quick));
-    cases.push_back(octaneFrameCase("lightfield_pixel_texture_400_paper", demos::Quality::Paper));
-    cases.push_back(o2FrameCase("lightfield_software_o2_400_paper", demos::Quality::Paper));
+    cases.push_back(frameCase("lightfield_pixel_texture_400", demos::Quality::Quick, Route::OctanePixelTexture));
+    cases.push_back(frameCase("lightfield_pixel_texture_400_paper", demos::Quality::Paper, Route::OctanePixelTexture));
+    cases.push_back(frameCase("lightfield_software_o2_400_paper", demos::Quality::Paper, Route::O2Software));
     {
         // The O2's software lookup of one 400² read-back, against a plain float loop doing
         // the same trilinear lookup (llvmpipe has no pixel texture: ours only otherwise).
