@@ -35,6 +35,28 @@ void checkEnum(E value, E last, const char* name) {
                            " is out of range");
 }
 
+// Triangles per chunk on the fast path: one task's setup, one run of a tile's bins.
+constexpr uint32_t kChunk = 1024;
+
+// The highest index of each run of 3·kChunk indices (a list's chunk of triangles), for the
+// vertex interleave of execute(), and of all of them in `maxIndex`. One maximum over the
+// indices first: that loop vectorizes, one that may throw at each index does not (3% of
+// a 40,000-triangle mesh's draw, measured); only a draw with a bad index searches for the
+// first one, which the message names.
+std::vector<uint32_t> chunkMaxima(std::span<const uint32_t> indices, uint32_t& maxIndex) {
+    std::vector<uint32_t> chunkMax;
+    chunkMax.reserve((indices.size() + 3 * kChunk - 1) / (3 * kChunk));
+    maxIndex = 0;
+    for (size_t b = 0; b < indices.size(); b += 3 * kChunk) {
+        const size_t e = std::min(indices.size(), b + 3 * kChunk);
+        uint32_t m = 0;
+        for (size_t k = b; k < e; ++k) m = std::max(m, indices[k]);
+        chunkMax.push_back(m);
+        maxIndex = std::max(maxIndex, m);
+    }
+    return chunkMax;
+}
+
 // The highest vertex number triangles [begin, end) of a draw use (begin < end).
 uint32_t lastVertexUsed(Primitive primitive, uint32_t begin, uint32_t end,
                         std::span<const uint32_t> indices) {
@@ -207,25 +229,8 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, VertexSource sou
     checkEnum(space, VertexSpace::Pretransformed, "vertex space");
     validateState();
     textureUnits.validate(profile);
-    // One maximum over the indices first: that loop vectorizes, one that may throw at
-    // each index does not (3% of a 40,000-triangle mesh's draw, measured). Only a draw
-    // with a bad index searches for the first one, which the message names.
-    // Kept per chunk of a list's triangles too, for the one-thread path's vertex interleave
-    // (below), which would otherwise scan the indices again.
-    constexpr uint32_t kChunk = 1024;  // triangles per chunk on the fast path
-    // Meshes of at least this many triangles go through drawInBands on several threads;
-    // smaller draws of large triangles (fills) share their pixels out better in tiles.
-    constexpr uint32_t kBandMinTriangles = 4 * kChunk;
-    std::vector<uint32_t> chunkMaxIndex;
-    chunkMaxIndex.reserve((indices.size() + 3 * kChunk - 1) / (3 * kChunk));
     uint32_t maxIndex = 0;
-    for (size_t b = 0; b < indices.size(); b += 3 * kChunk) {
-        const size_t e = std::min(indices.size(), b + 3 * kChunk);
-        uint32_t m = 0;
-        for (size_t k = b; k < e; ++k) m = std::max(m, indices[k]);
-        chunkMaxIndex.push_back(m);
-        maxIndex = std::max(maxIndex, m);
-    }
+    const std::vector<uint32_t> chunkMaxIndex = chunkMaxima(indices, maxIndex);
     if (!indices.empty() && maxIndex >= source.size())
         for (uint32_t i : indices)
             if (i >= source.size())
@@ -240,7 +245,52 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, VertexSource sou
     const glm::mat4 worldView = view * world;
     const glm::mat4 worldViewProj = projection * worldView;
     const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(worldView)));
+    if (!batching) {
+        execute(dc, primitive, source, indices, chunkMaxIndex, worldViewProj, worldView,
+                normalMatrix);
+        return;
+    }
 
+    // Recorded: the context with its own copy of the texture units (the caller may rebind
+    // before endBatch), the vertices and indices copied into the batch's arrays.
+    BatchedDraw d;
+    d.primitive = primitive;
+    d.units = std::make_unique<tex::TextureUnits>(textureUnits);
+    d.dc = dc;
+    d.dc.tu = d.units.get();
+    d.worldViewProj = worldViewProj;
+    d.worldView = worldView;
+    d.normalMatrix = normalMatrix;
+    d.compact = options.path == Path::Fast && !dc.fragmentObserver && compactVertices(dc);
+    if (!source.full.empty()) {
+        d.fullBegin = batch.full.size();
+        d.fullCount = source.full.size();
+        batch.full.insert(batch.full.end(), source.full.begin(), source.full.end());
+    } else if (d.compact) {
+        d.xyzBegin = batch.xyz.size();
+        d.xyzCount = source.xyzDiffuse.size();
+        batch.xyz.insert(batch.xyz.end(), source.xyzDiffuse.begin(), source.xyzDiffuse.end());
+    } else {  // execute() would make Vertex records of them: made here once
+        d.fullBegin = batch.full.size();
+        d.fullCount = source.xyzDiffuse.size();
+        for (const VertexXyzDiffuse& v : source.xyzDiffuse) batch.full.push_back(toVertex(v));
+    }
+    d.indexBegin = batch.indices.size();
+    d.indexCount = indices.size();
+    batch.indices.insert(batch.indices.end(), indices.begin(), indices.end());
+    d.triangles =
+        triangleCount(primitive, uint32_t(indices.empty() ? source.size() : indices.size()));
+    batch.draws.push_back(std::move(d));
+}
+
+void Device::Impl::execute(const DrawContext& dc, Primitive primitive, VertexSource source,
+                           std::span<const uint32_t> indices,
+                           std::span<const uint32_t> chunkMaxIndex,
+                           const glm::mat4& worldViewProj, const glm::mat4& worldView,
+                           const glm::mat3& normalMatrix) {
+    // Meshes of at least this many triangles go through drawInBands on several threads;
+    // smaller draws of large triangles (fills) share their pixels out better in tiles.
+    constexpr uint32_t kBandMinTriangles = 4 * kChunk;
     const uint32_t vertexCount = uint32_t(indices.empty() ? source.size() : indices.size());
     const uint32_t triangles = triangleCount(primitive, vertexCount);
     auto vertexOf = [&](uint32_t k) { return indices.empty() ? k : indices[k]; };
@@ -452,6 +502,10 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, VertexSource sou
         if (multi)
             for (const RasterCounters& t : tileCounters) rc.add(t);  // zero if in bands
     }
+    addCounters(gc, rc);
+}
+
+void Device::Impl::addCounters(const GeometryCounters& gc, const RasterCounters& rc) {
     counters.trianglesSubmitted += gc.submitted;
     counters.trianglesCulled += gc.culled;
     counters.trianglesClipped += gc.clipped;
@@ -463,6 +517,141 @@ void Device::Impl::draw(Primitive primitive, VertexSpace space, VertexSource sou
     counters.texture = textureUnits.counters();  // texel fetches and uploads this frame
 }
 
+// ---- batches ---------------------------------------------------------------------------
+void Device::Impl::endBatch() {
+    if (!batching) throw InvalidState("endBatch without beginBatch");
+    batching = false;
+    // The batch's arrays are emptied whatever happens (they keep their capacity).
+    struct Emptied {
+        Batch& b;
+        ~Emptied() { b.clear(); }
+    } emptied{batch};
+    if (options.path == Path::Fast && !fragmentObserver && arena->max_concurrency() > 1 &&
+        batch.draws.size() > 1) {
+        runBatchInTiles();
+        return;
+    }
+    // One thread, the reference path, an observer or a single draw: each draw as issued.
+    for (const BatchedDraw& d : batch.draws) {
+        const VertexSource source{std::span<const Vertex>(batch.full).subspan(d.fullBegin, d.fullCount),
+                                  std::span<const VertexXyzDiffuse>(batch.xyz).subspan(d.xyzBegin, d.xyzCount)};
+        const std::span<const uint32_t> indices =
+            std::span<const uint32_t>(batch.indices).subspan(d.indexBegin, d.indexCount);
+        uint32_t maxIndex = 0;
+        const std::vector<uint32_t> chunkMaxIndex = chunkMaxima(indices, maxIndex);
+        execute(d.dc, d.primitive, source, indices, chunkMaxIndex, d.worldViewProj, d.worldView,
+                d.normalMatrix);
+    }
+}
+
+// The batch's draws as the tile path runs one draw's batch of chunks (execute), with
+// every draw in each of the three phases: all vertices, in blocks over the threads; all
+// chunks set up and binned, over the threads; then each tile, over the threads, walks the
+// draws in the order issued and each draw's chunks in order, with the draw's own context.
+// A pixel sees its triangles in submission order: the bytes of drawing one by one.
+void Device::Impl::runBatchInTiles() {
+    std::vector<BatchedDraw>& draws = batch.draws;
+    struct Item {
+        uint32_t draw, begin;  // a block of vertices from `begin`, or chunk number `begin`
+    };
+    constexpr uint32_t kVertexBlock = 2048;
+    std::vector<Item> vertexItems, chunkItems;
+    size_t fullRecords = 0, fastRecords = 0, chunkTotal = 0;
+    for (uint32_t k = 0; k < uint32_t(draws.size()); ++k) {
+        BatchedDraw& d = draws[k];
+        const size_t n = d.fullCount + d.xyzCount;  // (one of them is 0)
+        size_t& records = d.compact ? fastRecords : fullRecords;
+        d.recordBegin = records;
+        records += n;
+        for (size_t b = 0; b < n; b += kVertexBlock) vertexItems.push_back({k, uint32_t(b)});
+        d.firstChunk = chunkTotal;
+        d.chunkCount = (d.triangles + kChunk - 1) / kChunk;
+        for (uint32_t c = 0; c < d.chunkCount; ++c) chunkItems.push_back({k, c});
+        chunkTotal += d.chunkCount;
+    }
+    if (scratchVertices.size() < fullRecords) scratchVertices.resize(fullRecords);
+    if (scratchFastVertices.size() < fastRecords) scratchFastVertices.resize(fastRecords);
+    if (scratchChunks.size() < chunkTotal) scratchChunks.resize(chunkTotal);
+    auto sourceOf = [&](const BatchedDraw& d) {
+        return VertexSource{std::span<const Vertex>(batch.full).subspan(d.fullBegin, d.fullCount),
+                            std::span<const VertexXyzDiffuse>(batch.xyz).subspan(d.xyzBegin, d.xyzCount)};
+    };
+    auto indicesOf = [&](const BatchedDraw& d) {
+        return std::span<const uint32_t>(batch.indices).subspan(d.indexBegin, d.indexCount);
+    };
+    const int tilesX = (fb.width() + kTileSize - 1) / kTileSize;
+    const int tilesY = (fb.height() + kTileSize - 1) / kTileSize;
+    std::vector<RasterCounters> tileCounters(size_t(tilesX) * tilesY);
+
+    [[maybe_unused]] int forkJoin = 0;  // the address TSan's fork/join edges name
+    RG_TSAN_RELEASE(&forkJoin);
+    arena->execute([&] {
+        tbb::parallel_for(size_t(0), vertexItems.size(), [&](size_t i) {
+            RG_TSAN_ACQUIRE(&forkJoin);
+            const Item it = vertexItems[i];
+            const BatchedDraw& d = draws[it.draw];
+            const VertexSource source = sourceOf(d);
+            const size_t e = std::min(source.size(), size_t(it.begin) + kVertexBlock);
+            if (d.compact)
+                processVerticesCompact(d.dc, d.worldViewProj, d.worldView, d.normalMatrix,
+                                       source, it.begin, e,
+                                       scratchFastVertices.data() + d.recordBegin);
+            else
+                processVerticesFast(d.dc, d.worldViewProj, d.worldView, d.normalMatrix,
+                                    source.full, it.begin, e,
+                                    scratchVertices.data() + d.recordBegin);
+            RG_TSAN_RELEASE(&forkJoin);
+        });
+        RG_TSAN_ACQUIRE(&forkJoin);
+        RG_TSAN_RELEASE(&forkJoin);
+        tbb::parallel_for(size_t(0), chunkItems.size(), [&](size_t i) {
+            RG_TSAN_ACQUIRE(&forkJoin);
+            const Item it = chunkItems[i];
+            const BatchedDraw& d = draws[it.draw];
+            TriangleChunk& ch = scratchChunks[d.firstChunk + it.begin];
+            ch.tris.clear();
+            ch.texPlanes.clear();
+            GeometryCounters local;  // published once: chunks share cache lines
+            const uint32_t b = it.begin * kChunk, e = std::min(d.triangles, b + kChunk);
+            if (d.compact)
+                setupTrianglesCompact(d.dc, d.primitive, b, e, indicesOf(d), sourceOf(d),
+                                      scratchFastVertices.data() + d.recordBegin,
+                                      d.worldViewProj, d.worldView, d.normalMatrix, ch.tris,
+                                      ch.texPlanes, local);
+            else
+                setupTrianglesFast(d.dc, d.primitive, b, e, indicesOf(d), sourceOf(d).full,
+                                   scratchVertices.data() + d.recordBegin, ch.tris,
+                                   ch.texPlanes, local);
+            ch.geometry = local;
+            binChunk(ch, tilesX, tilesY);
+            RG_TSAN_RELEASE(&forkJoin);
+        });
+        RG_TSAN_ACQUIRE(&forkJoin);
+        RG_TSAN_RELEASE(&forkJoin);
+        tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
+            RG_TSAN_ACQUIRE(&forkJoin);
+            for (const BatchedDraw& d : draws) {
+                const std::span<const TriangleChunk> chunks(scratchChunks.data() + d.firstChunk,
+                                                            d.chunkCount);
+                // Most of a batch's small draws miss most tiles: skip them before
+                // rasterizeTile sets up its walk.
+                if (std::none_of(chunks.begin(), chunks.end(), [&](const TriangleChunk& c) {
+                        return c.binStart[size_t(tile)] != c.binStart[size_t(tile) + 1];
+                    }))
+                    continue;
+                rasterizeTile(d.dc, chunks, tile, tilesX, tileCounters[size_t(tile)]);
+            }
+            RG_TSAN_RELEASE(&forkJoin);
+        });
+    });
+    RG_TSAN_ACQUIRE(&forkJoin);
+    GeometryCounters gc;
+    RasterCounters rc;
+    for (size_t c = 0; c < chunkTotal; ++c) gc.add(scratchChunks[c].geometry);
+    for (const RasterCounters& t : tileCounters) rc.add(t);
+    addCounters(gc, rc);
+}
+
 // ---- Device ----------------------------------------------------------------------------
 Device::Device(const Profile& profile, int width, int height, DepthFormat depth,
                DeviceOptions options)
@@ -471,8 +660,12 @@ Device::~Device() = default;
 
 const Profile& Device::profile() const { return impl_->profile; }
 const DeviceOptions& Device::options() const { return impl_->options; }
-void Device::setPath(Path path) { impl_->options.path = path; }
+void Device::setPath(Path path) {
+    impl_->notInBatch("setPath");
+    impl_->options.path = path;
+}
 void Device::setThreads(int threads) {
+    impl_->notInBatch("setThreads");
     if (threads < 0) throw InvalidState("thread count " + std::to_string(threads) + " is negative");
     impl_->options.threads = threads;
     impl_->makeArena();
@@ -531,6 +724,7 @@ tex::TextureUnits& Device::textureUnits() { return impl_->textureUnits; }
 const tex::TextureUnits& Device::textureUnits() const { return impl_->textureUnits; }
 
 void Device::beginFrame() {
+    impl_->notInBatch("beginFrame");
     if (impl_->recorder) impl_->recorder->beginFrame();
     impl_->endPass();
     impl_->counters = Counters{};
@@ -539,6 +733,7 @@ void Device::beginFrame() {
 }
 
 void Device::beginPass(std::string label) {
+    impl_->notInBatch("beginPass");
     if (impl_->recorder) impl_->recorder->beginPass(label);
     impl_->endPass();
     impl_->passes.push_back(PassRecord{std::move(label), 0});
@@ -548,18 +743,22 @@ void Device::beginPass(std::string label) {
 
 const std::vector<PassRecord>& Device::passes() const { return impl_->passes; }
 void Device::setFragmentObserver(FragmentObserver observer) {
+    impl_->notInBatch("setFragmentObserver");
     impl_->fragmentObserver = std::move(observer);
 }
 
 void Device::setPassObserver(std::function<void(const PassRecord&, const Framebuffer&)> observer) {
+    impl_->notInBatch("setPassObserver");
     impl_->observer = std::move(observer);
 }
 void Device::endFrame() {
+    impl_->notInBatch("endFrame");
     if (impl_->recorder) impl_->recorder->endFrame();
     impl_->endPass();
 }
 
 void Device::setRecorder(std::shared_ptr<TraceRecorder> recorder) {
+    impl_->notInBatch("setRecorder");
     if (recorder) recorder->attach(*this);
     impl_->recorder = std::move(recorder);
 }
@@ -580,6 +779,13 @@ void Device::draw(Primitive primitive, std::span<const VertexXyzDiffuse> vertice
     }
     impl_->draw(primitive, VertexSpace::Untransformed, VertexSource{{}, vertices}, indices);
 }
+
+void Device::beginBatch() {
+    impl_->notInBatch("beginBatch");
+    impl_->batching = true;
+}
+void Device::endBatch() { impl_->endBatch(); }
+bool Device::batching() const { return impl_->batching; }
 
 Framebuffer& Device::framebuffer() { return impl_->fb; }
 const Framebuffer& Device::framebuffer() const { return impl_->fb; }

@@ -39,6 +39,40 @@ struct Device::Impl {
     std::vector<uint32_t> scratchRowSpans;  // drawInBands: rowSpanOf each vertex
     std::vector<Vertex> scratchInput;       // toVertex of a VertexXyzDiffuse draw's vertices
 
+    // A draw recorded between beginBatch and endBatch: its context as draw() made it, with
+    // the texture units pointing at the batch's copy, and where its copied vertices and
+    // indices lie in the batch's arrays.
+    struct BatchedDraw {
+        Primitive primitive = Primitive::TriangleList;
+        detail::DrawContext dc;
+        std::unique_ptr<tex::TextureUnits> units;  // dc.tu
+        glm::mat4 worldViewProj{1.0f}, worldView{1.0f};
+        glm::mat3 normalMatrix{1.0f};
+        size_t fullBegin = 0, fullCount = 0;  // in Batch::full
+        size_t xyzBegin = 0, xyzCount = 0;    // in Batch::xyz (compact draws only)
+        size_t indexBegin = 0, indexCount = 0;
+        uint32_t triangles = 0;
+        // endBatch's multi-thread run: the draw's vertex records (from scratchVertices or
+        // scratchFastVertices) and its chunks (from scratchChunks).
+        size_t recordBegin = 0, firstChunk = 0;
+        uint32_t chunkCount = 0;
+        bool compact = false;
+    };
+    struct Batch {
+        std::vector<BatchedDraw> draws;
+        std::vector<Vertex> full;
+        std::vector<VertexXyzDiffuse> xyz;
+        std::vector<uint32_t> indices;
+        void clear() {
+            draws.clear();
+            full.clear();
+            xyz.clear();
+            indices.clear();
+        }
+    };
+    bool batching = false;
+    Batch batch;
+
     Impl(const Profile& p, int w, int h, DepthFormat d, DeviceOptions o)
         : profile(p), options(o), fb(checkedFramebuffer(p, w, h, d)) {
         viewport = Viewport{0, 0, w, h, 0.0f, 1.0f};
@@ -72,9 +106,26 @@ struct Device::Impl {
         if (observer) observer(passes.back(), fb);
     }
 
+    // An error for what a batch cannot defer (Device::beginBatch).
+    void notInBatch(const char* what) const {
+        if (batching)
+            throw InvalidState(std::string(what) + " inside a draw batch (endBatch first)");
+    }
+
     void validateState() const;
+    // Checks and counts a draw, then runs it (execute) or, inside a batch, records it.
     void draw(Primitive primitive, VertexSpace space, detail::VertexSource source,
               std::span<const uint32_t> indices);
+    // Runs a checked draw on the reference path, one thread or the tile/band paths.
+    // `chunkMaxIndex`: the highest index of each run of 3·kChunk indices (chunkMaxima).
+    void execute(const detail::DrawContext& dc, Primitive primitive, detail::VertexSource source,
+                 std::span<const uint32_t> indices, std::span<const uint32_t> chunkMaxIndex,
+                 const glm::mat4& worldViewProj, const glm::mat4& worldView,
+                 const glm::mat3& normalMatrix);
+    void endBatch();
+    // endBatch's run of the recorded draws on the fast path with several threads.
+    void runBatchInTiles();
+    void addCounters(const detail::GeometryCounters& gc, const detail::RasterCounters& rc);
     // draw()'s multi-thread path for meshes of FastVertex records (device.cpp).
     void drawInBands(const detail::DrawContext& dc, Primitive primitive,
                      const detail::VertexSource& vertices, std::span<const uint32_t> indices,

@@ -39,6 +39,7 @@ void checkSize(const char* what, int width, int height) {
 // the scissor test is on. Colour is written whole (D3D7 Clear ignores the write mask);
 // depth is quantized like a fragment's.
 void Device::clear(bool color, Rgba8 colorValue, bool depth, float depthValue) {
+    impl_->notInBatch("clear");
     if (impl_->recorder) impl_->recorder->clear(*this, color, colorValue, depth, depthValue);
     if (depth && !(depthValue >= 0.0f && depthValue <= 1.0f))
         throw InvalidState("depth clear value " + std::to_string(depthValue) +
@@ -98,6 +99,7 @@ void Device::clear(bool color, Rgba8 colorValue, bool depth, float depthValue) {
 // pixels outside the target are discarded (the raster position is inside it or the
 // draw is clipped, as glDrawPixels clips fragments to the window).
 void Device::drawPixels(int x, int y, int width, int height, std::span<const Rgba8> pixels) {
+    impl_->notInBatch("drawPixels");
     if (impl_->recorder) impl_->recorder->drawPixels(*this, x, y, width, height, pixels);
     checkSize("drawPixels", width, height);
     if (pixels.size() != size_t(width) * size_t(height))
@@ -148,6 +150,7 @@ void Device::drawPixels(int x, int y, int width, int height, std::span<const Rgb
 // glCopyPixels: the source is read whole first, so overlapping rectangles copy as if
 // through a temporary buffer (the OpenGL 1.2 definition: read, then draw).
 void Device::copyPixels(int srcX, int srcY, int width, int height, int dstX, int dstY) {
+    impl_->notInBatch("copyPixels");
     checkSize("copyPixels", width, height);
     const Framebuffer& fb = framebuffer();
     if (srcX < 0 || srcY < 0 || int64_t(srcX) + width > fb.width() ||
@@ -168,6 +171,7 @@ void Device::copyPixels(int srcX, int srcY, int width, int height, int dstX, int
 }
 
 std::vector<Rgba8> Device::readPixels(int x, int y, int width, int height) {
+    impl_->notInBatch("readPixels");
     checkSize("readPixels", width, height);
     const Framebuffer& fb = framebuffer();
     if (x < 0 || y < 0 || int64_t(x) + width > fb.width() || int64_t(y) + height > fb.height())

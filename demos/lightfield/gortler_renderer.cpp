@@ -238,9 +238,18 @@ GortlerStats renderGortler(raster::Device& dev, SliceTextures& slices, const Lig
         for (const auto& p : points) order.push_back(p.first);
         slices.beginSequence(std::move(order), dev.options().threads != 1);
     }
+    // The eye points' draws in one batch (raster::Device::beginBatch): a few triangles
+    // each, they would otherwise pay the device's fork and join per draw. Swapped slices
+    // end the batch at each group's start, before slice() refills the slots the group
+    // two back was drawn from (and, overlapping, starts the next group's uploads).
+    raster::DrawBatch batch(dev);
     for (size_t e = 0; e < points.size(); ++e) {
         const int i = points[e].first.x, j = points[e].first.y;
         const std::vector<StTriangle>& tris = points[e].second;
+        if (!slices.resident() && e > 0 && e % SliceTextures::kGroup == 0) {
+            dev.endBatch();
+            dev.beginBatch();
+        }
         {
             verts.clear();
             for (const StTriangle& t : tris)
@@ -260,6 +269,7 @@ GortlerStats renderGortler(raster::Device& dev, SliceTextures& slices, const Lig
             stats.triangles += int(tris.size());
         }
     }
+    batch.end();
     slices.settle();
     stats.uploadBytes = slices.resident() ? 0 : uint64_t(stats.eyePoints) * slices.sliceBytes();
     return stats;

@@ -54,13 +54,6 @@ std::shared_ptr<tex::Texture> randomTexture(Rng& r, tex::TextureMemory& mem, tex
     return t;
 }
 
-float weird(Rng& r) {
-    const float values[] = {std::numeric_limits<float>::quiet_NaN(),
-                            std::numeric_limits<float>::infinity(),
-                            -std::numeric_limits<float>::infinity(), 1e30f, -1e30f, 0.0f};
-    return values[r.i(0, 5)];
-}
-
 tex::SamplerState randomSampler(Rng& r) {
     tex::SamplerState s;
     // Mostly the address modes the compiled samplers specialise (CLAMP_TO_EDGE, WRAP).
@@ -105,7 +98,8 @@ tex::StageState randomStage(Rng& r, int sets) {
     return st;
 }
 
-PipelineState randomState(Rng& r) {
+// No culling, unlike randomState: every quad reaches the texture units.
+PipelineState randomQuadState(Rng& r) {
     PipelineState s;
     s.cull = CullMode::None;
     s.shade = r.p(0.8) ? ShadeMode::Gouraud : ShadeMode::Flat;
@@ -201,7 +195,7 @@ uint64_t runSession(uint64_t seed, int draws) {
     for (int k = 0; k < draws; ++k) {
         const std::string where = "seed " + std::to_string(seed) + " draw " + std::to_string(k) +
                                   " (" + std::to_string(w) + "x" + std::to_string(h) + ")";
-        const PipelineState s = randomState(r);
+        const PipelineState s = randomQuadState(r);
         const Rect scissor{r.i(-5, w), r.i(-5, h), r.i(0, w), r.i(0, h)};
         const int stages = r.p(0.6) ? 1 : 2;
         tex::StageState st[2];

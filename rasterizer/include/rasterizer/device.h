@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <span>
@@ -114,6 +115,25 @@ class Device {
     // Reads back a rectangle of the colour buffer (counts bytesReadBack).
     std::vector<Rgba8> readPixels(int x, int y, int width, int height);
 
+    // ---- batches -----------------------------------------------------------------------
+    // Between beginBatch() and endBatch() draws are checked, counted and recorded as they
+    // are issued but not run. On the fast path with more than one thread, endBatch runs the
+    // vertex stage and the setup of every queued draw shared over the threads, bins all
+    // their triangles into the tiles, and rasterizes each tile's triangles draw by draw in
+    // the order issued: three forks and joins for the batch instead of three per draw
+    // (llvmpipe defers a frame's draws to its scene the same way). Otherwise the draws run
+    // one by one at endBatch. The pixels and counters are those of drawing one by one: a
+    // pixel's fragments still meet the blender in submission order (tests/rasterizer,
+    // DrawBatch). A batched draw keeps copies of its vertices, indices, state, transforms
+    // and texture-unit state; the caller keeps the contents of every texture a draw reads
+    // unchanged until endBatch and reads the framebuffer only after it. Inside a batch,
+    // clear, the pixel transfers, beginFrame, beginPass, endFrame, attaching a recorder or
+    // an observer, setPath, setThreads and a second beginBatch are errors (InvalidState)
+    // that leave the batch open. The destructor drops a batch left open.
+    void beginBatch();
+    void endBatch();
+    bool batching() const;
+
     Framebuffer& framebuffer();
     const Framebuffer& framebuffer() const;
     const Counters& counters() const;
@@ -121,6 +141,28 @@ class Device {
   private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
+};
+
+// A batch for a scope: beginBatch at construction, end() runs it. The destructor runs a
+// batch end() did not (the scope left by an exception: the draws issued are not lost) and
+// drops any error from it.
+class DrawBatch {
+  public:
+    explicit DrawBatch(Device& device) : device_(device) { device_.beginBatch(); }
+    ~DrawBatch() {
+        if (device_.batching()) {
+            try {
+                device_.endBatch();
+            } catch (const std::exception&) {
+            }
+        }
+    }
+    DrawBatch(const DrawBatch&) = delete;
+    DrawBatch& operator=(const DrawBatch&) = delete;
+    void end() { device_.endBatch(); }
+
+  private:
+    Device& device_;
 };
 
 }  // namespace rg::raster
