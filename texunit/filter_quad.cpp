@@ -684,6 +684,30 @@ template <Target kT, Addr kS, Addr kU, bool kTexCur>
         r[arg::Current] = quad::evaluate<TextureOp::Modulate, TextureOp::Modulate>(st, r);
     return n;
 }
+// The two forms of a one-texture cascade besides MODULATE of colour and alpha, both exact
+// through mulDiv255(x, 255) = x for every byte x ((255x + 128 + ((255x + 128) >> 8)) >> 8
+// = x), so that an alpha that passes is a multiply by 255 (the hybrid layer passes,
+// demos/hybrid/hybrid_renderer.cpp):
+//  - kAlpha0 = SelectArg1: stage 0 is colour MODULATE(TEXTURE, CURRENT), alpha
+//    SELECTARG1(TEXTURE). With kTexCur that is mulDiv255(texel, CURRENT) once CURRENT's
+//    alpha byte is 255: the colour bytes as MODULATE's, the alpha the texel's.
+//  - kTail: a last stage that samples nothing, colour MODULATE(CURRENT, TFACTOR), alpha
+//    SELECTARG1(CURRENT): mulDiv255(CURRENT, TFACTOR with alpha 255) on all four bytes.
+constexpr uint32_t kAlphaByte = 0xff000000u;
+template <TextureOp kAlpha0>
+[[gnu::always_inline]] inline void stage0AlphaIn(quad::Regs& r) {
+    static_assert(kAlpha0 == TextureOp::Modulate || kAlpha0 == TextureOp::SelectArg1);
+    if constexpr (kAlpha0 == TextureOp::SelectArg1)
+        r[arg::Current] =
+            _mm_or_si128(r[arg::Current], _mm_set1_epi32(int32_t(kAlphaByte)));
+}
+template <bool kTail>
+[[gnu::always_inline]] inline __m128i tfactorTail(__m128i current, __m128i tfactor) {
+    if constexpr (kTail)
+        return quad::mulDiv255(
+            current, _mm_or_si128(tfactor, _mm_set1_epi32(int32_t(kAlphaByte))));
+    return current;
+}
 // The stage inputs; with kTexCur only CURRENT (= DIFFUSE) is read. The rasterizer writes
 // the quad's colours with one 16-byte store (fragment_quad_textured.h) or as an array copy,
 // so one 16-byte load.
@@ -698,12 +722,16 @@ template <bool kTexCur>
     }
     return r;
 }
-template <Target kT, Addr kS, Addr kU, bool kTexCur>
-RG_AVX2 uint64_t cascadeOne(const CompiledStages& c, const FragmentQuad& q, __m128i tfactor,
-                            __m128i& out) {
+// kAlpha0 and kTail (above) only with kTexCur, where CURRENT is the one input read.
+template <Target kT, Addr kS, Addr kU, bool kTexCur,
+          TextureOp kAlpha0 = TextureOp::Modulate, bool kTail = false>
+RG_AVX2 uint64_t cascadeOne(const CompiledStages& c, const FragmentQuad& q,
+                            __m128i tfactor, __m128i& out) {
+    static_assert(kTexCur || (kAlpha0 == TextureOp::Modulate && !kTail));
     quad::Regs r = cascadeInputs<kTexCur>(q, tfactor);
+    stage0AlphaIn<kAlpha0>(r);
     const uint64_t n = cascadeStage<kT, kS, kU, kTexCur>(c, 0, q, r);
-    out = r[arg::Current];
+    out = tfactorTail<kTail>(r[arg::Current], tfactor);
     return n;
 }
 template <Target kT0, Addr kS0, Addr kU0, Target kT1, Addr kS1, Addr kU1, bool kTexCur>
@@ -1166,13 +1194,31 @@ template <bool kTexCur>
 }
 // Both quads in one body (no call or counter update between them), so the out-of-order
 // core overlaps the second quad's chain with the first's.
-template <Target kT, Addr kS, Addr kU, bool kTexCur>
+// kAlpha0 and kTail as cascadeOne's.
+template <Target kT, Addr kS, Addr kU, bool kTexCur,
+          TextureOp kAlpha0 = TextureOp::Modulate, bool kTail = false>
 RG_AVX2 uint64_t cascadePairOne(const CompiledStages& c, const FragmentQuadPair& p,
                                 __m128i tfactor, Rgba8* out) {
+    static_assert(kTexCur || (kAlpha0 == TextureOp::Modulate && !kTail));
     if (p.coverage[0] && p.coverage[1]) {
         quad::Regs r[2] = {cascadeInputsOfPair<kTexCur>(p, 0, tfactor),
                            cascadeInputsOfPair<kTexCur>(p, 1, tfactor)};
+        stage0AlphaIn<kAlpha0>(r[0]);
+        stage0AlphaIn<kAlpha0>(r[1]);
         const uint64_t n = cascadeStageOfBoth<kT, kS, kU, kTexCur>(c, 0, p, r);
+        if constexpr (kTail) {
+            // tfactorTail of both quads in one register: quad::mulDiv255's arithmetic on
+            // 16 int16 lanes (mulDiv255x16); unpacks and pack keep each quad in its half.
+            const __m256i z = _mm256_setzero_si256();
+            const __m256i both = _mm256_set_m128i(r[1][arg::Current], r[0][arg::Current]);
+            const __m256i f = _mm256_cvtepu8_epi16(_mm_or_si128(
+                tfactor, _mm_set1_epi32(int32_t(kAlphaByte))));  // 2 pixels a half
+            _mm256_storeu_si256(
+                reinterpret_cast<__m256i*>(out),
+                _mm256_packus_epi16(mulDiv255x16(_mm256_unpacklo_epi8(both, z), f),
+                                    mulDiv255x16(_mm256_unpackhi_epi8(both, z), f)));
+            return n;
+        }
         _mm_storeu_si128(reinterpret_cast<__m128i*>(out), r[0][arg::Current]);
         _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4), r[1][arg::Current]);
         return n;
@@ -1185,8 +1231,9 @@ RG_AVX2 uint64_t cascadePairOne(const CompiledStages& c, const FragmentQuadPair&
             continue;
         }
         quad::Regs r = cascadeInputsOfPair<kTexCur>(p, h, tfactor);
+        stage0AlphaIn<kAlpha0>(r);
         n += cascadeStageOfPair<kT, kS, kU, kTexCur>(c, 0, p, h, r);
-        _mm_storeu_si128(dst, r[arg::Current]);
+        _mm_storeu_si128(dst, tfactorTail<kTail>(r[arg::Current], tfactor));
     }
     return n;
 }
@@ -1263,6 +1310,25 @@ bool texCurOnly(const CompiledStages& c, int active) {
     return true;
 }
 
+// The hybrid layer pass's stages (compileCascade): stage 0 colour MODULATE(TEXTURE,
+// DIFFUSE or CURRENT, the same at stage 0), alpha SELECTARG1(TEXTURE), no scale...
+bool texelAlphaStage(const StageState& st) {
+    return st.colorOp == TextureOp::Modulate && st.alphaOp == TextureOp::SelectArg1 &&
+           st.colorArg1 == arg::Texture &&
+           (st.colorArg2 == arg::Diffuse || st.colorArg2 == arg::Current) &&
+           st.alphaArg1 == arg::Texture && st.colorScaleShift == 0 &&
+           st.alphaScaleShift == 0;
+}
+// ... and a stage 1 that samples nothing: colour MODULATE(CURRENT, TFACTOR) in either
+// order, alpha SELECTARG1(CURRENT), no scale (a sample's weight when two are summed).
+bool tfactorTailStage(const StageState& st) {
+    return st.colorOp == TextureOp::Modulate && st.alphaOp == TextureOp::SelectArg1 &&
+           ((st.colorArg1 == arg::Current && st.colorArg2 == arg::TFactor) ||
+            (st.colorArg1 == arg::TFactor && st.colorArg2 == arg::Current)) &&
+           st.alphaArg1 == arg::Current && st.colorScaleShift == 0 &&
+           st.alphaScaleShift == 0;
+}
+
 bool specialisable(AddressMode m, int n) {
     return m == AddressMode::ClampToEdge ||
            (m == AddressMode::Wrap && (n & (n - 1)) == 0);
@@ -1310,6 +1376,24 @@ void compileCascade(CompiledStages& c, int active, uint32_t sampling) {
     c.cascade = nullptr;
     c.cascadePair = nullptr;
     if (active < 1 || active > 2 || c.sharesFootprint != 0) return;
+    // The hybrid layer passes: a cube map's texel times DIFFUSE with the texel's alpha,
+    // optionally times TFACTOR (cascadeOne's kAlpha0 = SelectArg1 and kTail). Stage 0's
+    // CURRENT is DIFFUSE, so the stage is the kTexCur form's mulDiv255(texel, CURRENT).
+    if ((sampling & 1u) && texelAlphaStage(c.state[0]) &&
+        c.stage[0].fn == &sampleQuadKernelAvx2<Target::Cube, Addr::Edge, Addr::Edge> &&
+        (active == 1 || (!(sampling & 2u) && tfactorTailStage(c.state[1])))) {
+        constexpr Target kC = Target::Cube;
+        constexpr Addr kE = Addr::Edge;
+        constexpr TextureOp kSel = TextureOp::SelectArg1;
+        if (active == 1) {
+            c.cascade = &cascadeOne<kC, kE, kE, true, kSel, false>;
+            c.cascadePair = &cascadePairOne<kC, kE, kE, true, kSel, false>;
+        } else {
+            c.cascade = &cascadeOne<kC, kE, kE, true, kSel, true>;
+            c.cascadePair = &cascadePairOne<kC, kE, kE, true, kSel, true>;
+        }
+        return;
+    }
     // GL MODULATE of a texture without alpha (texEnvStage(Modulate, RGB or L)) keeps the
     // fragment's alpha: colour MODULATE, alpha SELECTARG1 of CURRENT. Its texels' alpha is
     // 255, and mulDiv255(255, a) = a for every byte a ((255a + 128 + ((255a + 128) >> 8))

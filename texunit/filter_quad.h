@@ -108,10 +108,13 @@ struct CompiledStages {
     CascadePairFn cascadePair = nullptr;  // set with `cascade`
 };
 
-// Sets c.cascade when the `active` stages (c.state, c.stage, c.stageKernel filled) are one
-// of the specialised combinations: every stage sampling through an AVX2 kernel, no
-// premodulation, no shared footprint, MODULATE colour and alpha — one 2D or cube stage
-// (GL MODULATE), or a cube stage then a 1D stage (the PEM pass).
+// Sets c.cascade when the `active` stages (c.state, c.stage, c.stageKernel filled) are
+// one of the specialised combinations, with no premodulation or shared footprint: every
+// stage sampling through an AVX2 kernel with MODULATE colour and alpha — one 2D or cube
+// stage (GL MODULATE), or a cube stage then a 1D stage (the PEM pass) — or the hybrid
+// layer pass: a cube stage MODULATE(TEXTURE, DIFFUSE) with alpha SELECTARG1(TEXTURE),
+// alone or followed by a stage that samples nothing, MODULATE(CURRENT, TFACTOR) with
+// alpha SELECTARG1(CURRENT).
 void compileCascade(CompiledStages& c, int active, uint32_t sampling);
 
 // Chooses the kernel for a stage's texture and sampler, or leaves fn null when the state

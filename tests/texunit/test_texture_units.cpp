@@ -527,7 +527,9 @@ void cascadesAgainstReference(int& pairs) {  // pairs: how many shadeQuadPair ca
             st.colorArg2 = st.alphaArg2 = arg::Current;
             st.colorScaleShift = st.alphaScaleShift = 0;
         }
-        if (rng.below(8) == 0) st.alphaOp = TextureOp::SelectArg1;  // a near miss
+        // A near miss (with glModulate on a lone cube stage, the hybrid layer pass's
+        // alpha SELECTARG1(TEXTURE), which has its own cascade).
+        if (rng.below(8) == 0) st.alphaOp = TextureOp::SelectArg1;
         return st;
     };
     for (int stateI = 0; stateI < 400; ++stateI) {
@@ -701,6 +703,157 @@ TEST(TextureUnits, ModulateOfATextureWithoutAlphaTakesTheCascades) {
     }
     if (avx2) {
         EXPECT_GT(pairs, 300);
+    }
+}
+
+// The hybrid layer passes (demos/hybrid/hybrid_renderer.cpp) take the whole-quad cascades
+// (compileCascade: cascadeOne's kAlpha0 = SelectArg1 and kTail): stage 0 colour
+// MODULATE(TEXTURE, DIFFUSE), alpha SELECTARG1(TEXTURE) over an RGBA8 cube map, alone or
+// followed by a stage that samples nothing, colour MODULATE(CURRENT, TFACTOR), alpha
+// SELECTARG1(CURRENT) (the "b" weighted passes). Against the reference, quad by quad and
+// in pairs (neighbouring quads and unrelated ones, now and then one without coverage),
+// with and without mipmaps (trilinear and bilinear), random TFACTOR and DIFFUSE; and
+// every pixel against the stage formulas of docs/hardware.md with the reference's texel
+// t: C = m(m(Ct, Cd), Cf) (m(Ct, Cd) alone without the weight), A = At. The cascade must
+// be compiled where the AVX2 kernels run.
+TEST(TextureUnits, HybridLayerStatesTakeTheCascades) {
+    const Profile& g8 = profile(ProfileId::GeForce8800);
+    auto mem = std::make_shared<TextureMemory>(g8);
+    const bool avx2 =
+        __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
+    auto texel = [](int l, int f, int x, int y, int, int) {
+        const uint32_t h =
+            testing::hash32(uint32_t(((l * 7 + f) * 131 + x) * 521 + y) + 99u);
+        return Rgba8{uint8_t(h), uint8_t(h >> 8), uint8_t(h >> 16), uint8_t(h >> 24)};
+    };
+    // m(a, b) = mulDiv255 as docs/hardware.md defines it:
+    // t = a·b + 128, (t + (t >> 8)) >> 8.
+    auto m = [](uint32_t a, uint32_t b) {
+        const uint32_t t = a * b + 128u;
+        return uint8_t((t + (t >> 8)) >> 8);
+    };
+    Rng rng(2008);
+    int pairs = 0;
+    for (int levels : {1, 5}) {
+        const auto cube = makeRgba8(
+            *mem, {TextureTarget::CubeMap, TexelFormat::RGBA8, 16, 16, 1, 1, levels},
+            texel);
+        // HybridRenderer::layerSampler, without mipmaps where there are none.
+        SamplerState s;
+        s.address = {AddressMode::ClampToEdge, AddressMode::ClampToEdge,
+                     AddressMode::ClampToEdge, AddressMode::ClampToEdge};
+        s.magFilter = s.minFilter = FilterMode::Linear;
+        s.mipFilter = levels > 1 ? MipMode::Linear : MipMode::None;
+        // The texel alone (SELECTARG1 of TEXTURE for both), through the reference.
+        TextureUnits probe;
+        probe.setTexture(0, cube);
+        probe.setSampler(0, s);
+        probe.setStage(0, op(TextureOp::SelectArg1));
+        for (bool weighted : {false, true}) {
+            for (int stateI = 0; stateI < 8; ++stateI) {
+                SCOPED_TRACE(std::to_string(levels) + " levels, " +
+                             (weighted ? "× TFACTOR" : "one stage") + ", state " +
+                             std::to_string(stateI) + " (seed 2008)");
+                TextureUnits tu;
+                tu.setTexture(0, cube);
+                tu.setSampler(0, s);
+                // DIFFUSE as hybrid writes it; now and then CURRENT, the same at stage 0.
+                tu.setStage(0, op(TextureOp::Modulate, arg::Texture,
+                                  stateI % 4 == 3 ? arg::Current : arg::Diffuse));
+                if (weighted) {
+                    StageState s1 =
+                        stateI & 1 ? op(TextureOp::Modulate, arg::Current, arg::TFactor)
+                                   : op(TextureOp::Modulate, arg::TFactor, arg::Current);
+                    s1.alphaArg1 = arg::Current;
+                    tu.setStage(1, s1);
+                    if (stateI & 2) {
+                        // A texture left bound on the stage (as after hybrid's lerp
+                        // passes), which its arguments do not read.
+                        tu.setTexture(1, cube);
+                        tu.setSampler(1, s);
+                    }
+                }
+                const Rgba8 tf{uint8_t(rng.next()), uint8_t(rng.next()),
+                               uint8_t(rng.next()), uint8_t(rng.next())};
+                tu.setTextureFactor(tf);
+                if (avx2) {
+                    EXPECT_TRUE(tu.shadesPairs()) << "no cascade compiled";
+                }
+                FragmentQuadPair pair;
+                std::array<Rgba8, 4> ref[2];
+                uint64_t refFetches[2] = {0, 0};
+                float scale = 0.0f;
+                glm::vec4 base{}, dx{}, dy{};
+                for (int k = 0; k < 48; ++k) {
+                    // The second quad of a pair half the time two pixels to the right on
+                    // the same plane (the rasterizer's pairs: one 8-lane footprint).
+                    FragmentQuad q;
+                    const int h = k & 1;
+                    if (h && rng.below(2) == 0) {
+                        base += 2.0f * scale * dx;
+                    } else {
+                        scale = std::exp2(rng.uniform(-9, 1));
+                        base = {rng.uniform(-3, 3), rng.uniform(-3, 3),
+                                rng.uniform(-3, 3), 1.0f};
+                        dx = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1),
+                              0.0f};
+                        dy = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1),
+                              0.0f};
+                    }
+                    for (int p = 0; p < 4; ++p) {
+                        q.texCoord[0][size_t(p)] =
+                            base + scale * (float(p & 1) * dx + float(p >> 1) * dy);
+                        q.diffuse[size_t(p)] = {uint8_t(rng.next()), uint8_t(rng.next()),
+                                                uint8_t(rng.next()), uint8_t(rng.next())};
+                    }
+                    std::array<Rgba8, 4> fast, t;
+                    tu.resetCounters();
+                    tu.shadeQuad(q, ref[h], Path::Reference);
+                    refFetches[h] = tu.counters().texelFetches;
+                    tu.resetCounters();
+                    tu.shadeQuad(q, fast, Path::Fast);
+                    ASSERT_EQ(ref[h], fast) << "quad " << k;
+                    ASSERT_EQ(refFetches[h], tu.counters().texelFetches) << "quad " << k;
+                    probe.shadeQuad(q, t, Path::Reference);
+                    for (int p = 0; p < 4; ++p) {
+                        const Rgba8 d = q.diffuse[size_t(p)], tp = t[size_t(p)];
+                        Rgba8 want{m(tp.r, d.r), m(tp.g, d.g), m(tp.b, d.b), tp.a};
+                        if (weighted)
+                            want = {m(want.r, tf.r), m(want.g, tf.g), m(want.b, tf.b),
+                                    tp.a};
+                        ASSERT_EQ(want, fast[size_t(p)])
+                            << "quad " << k << " pixel " << p;
+                    }
+                    if (!tu.shadesPairs()) continue;
+                    for (int p = 0; p < 4; ++p) {
+                        for (int c = 0; c < 4; ++c)
+                            pair.texCoord[0][c][4 * h + p] = q.texCoord[0][size_t(p)][c];
+                        pair.diffuse[size_t(4 * h + p)] = q.diffuse[size_t(p)];
+                    }
+                    if (h == 0) continue;
+                    const uint32_t empty =
+                        rng.below(8);  // 0 or 1: that quad has no coverage
+                    pair.coverage = {uint8_t(empty == 0 ? 0 : 0xF),
+                                     uint8_t(empty == 1 ? 0 : 0xF)};
+                    std::array<Rgba8, 8> both;
+                    const uint64_t n = tu.shadeQuadPair(pair, both);
+                    uint64_t expected = 0;
+                    for (int g = 0; g < 2; ++g) {
+                        if (!pair.coverage[size_t(g)]) continue;
+                        expected += refFetches[g];
+                        for (int p = 0; p < 4; ++p)
+                            ASSERT_EQ(ref[g][size_t(p)], both[size_t(4 * g + p)])
+                                << "pair at quad " << k - 1 << ", quad " << g << " pixel "
+                                << p;
+                    }
+                    ASSERT_EQ(expected, n) << "pair at quad " << k - 1;
+                    ++pairs;
+                }
+            }
+        }
+    }
+    if (avx2) {
+        EXPECT_GT(pairs, 700);  // 2 × 2 × 8 states × 24 pairs = 768
     }
 }
 
