@@ -26,7 +26,7 @@ int baseLevel(const Texture& t, const SamplerState& s) {
     return std::clamp(s.baseLevel, 0, t.levels() - 1);
 }
 
-glm::vec4 texelAsFloat(const Texture& t, int level, int face, int x, int y, int z) {
+[[gnu::always_inline]] inline glm::vec4 texelAsFloat(const Texture& t, int level, int face, int x, int y, int z) {
     if (t.isFloat()) return t.texelFloat(level, face, x, y, z, 0);
     const Rgba8 v = t.texel8(level, face, x, y, z, 0);
     return glm::vec4(v.r, v.g, v.b, v.a) / 255.0f;
@@ -36,11 +36,16 @@ glm::vec4 borderAsFloat(const SamplerState& s) {
     return glm::vec4(s.borderColor.r, s.borderColor.g, s.borderColor.b, s.borderColor.a) / 255.0f;
 }
 
-// The fast path for one level of a 1D, 2D or cube texture: the taps of gatherTaps in its
-// order (x fastest, then y), each weight w/2^bits applied in double as resolveTapsFloat
-// does, without building the list.
-glm::vec4 fetchOneLevel(const Texture& t, const SamplerState& s, const glm::vec4& c, int level,
-                        FilterMode filter, uint32_t& fetches) {
+// The fast path's taps of one level of a 1D, 2D or cube texture, added into `acc`: the taps
+// of gatherTaps in its order (x fastest, then y), each of weight levelWeight·wx·wy (the same
+// integer gatherTaps forms) times `scale` = 2^−weightBits, applied in double as
+// resolveTapsFloat does, without building the list. Called for level0 and then level1 of a
+// blend, it adds the list's taps in the list's order: the same sums, bit for bit.
+[[gnu::always_inline]] inline void accumulateLevel(const Texture& t, const SamplerState& s,
+                                                   const glm::vec4& c, int level,
+                                                   FilterMode filter, uint64_t levelWeight,
+                                                   double scale, double (&acc)[4],
+                                                   uint32_t& fetches) {
     const bool cube = isCube(t);
     const int dims = t.dims();
     const int face = cube ? std::clamp(int(c.z), 0, 5) : 0;
@@ -50,19 +55,17 @@ glm::vec4 fetchOneLevel(const Texture& t, const SamplerState& s, const glm::vec4
     const detail::AxisFootprint ax = detail::axisFootprint(c.x, size[0], ms, filter);
     const detail::AxisFootprint ay = dims > 1 ? detail::axisFootprint(c.y, size[1], mt, filter)
                                               : detail::AxisFootprint{{0, 0}, {1, 0}, 1};
-    const int bits = (filter == FilterMode::Linear ? dims : 0) * kSubTexelBits;
-    const double scale = 1.0 / double(uint64_t(1) << bits);
     const glm::vec4 border = borderAsFloat(s);
-    double acc[4] = {0, 0, 0, 0};
+    double a[4] = {acc[0], acc[1], acc[2], acc[3]};  // in registers through the loop
     for (int iy = 0; iy < ay.count; ++iy)
         for (int ix = 0; ix < ax.count; ++ix) {
             const int x = ax.index[ix], y = ay.index[iy];
             const glm::vec4 v = (x < 0 || y < 0) ? border : texelAsFloat(t, level, face, x, y, 0);
-            const double w = double(uint64_t(ax.weight[ix]) * ay.weight[iy]) * scale;
-            for (int k = 0; k < 4; ++k) acc[k] += w * double(v[k]);
+            const double w = double(levelWeight * ax.weight[ix] * ay.weight[iy]) * scale;
+            for (int k = 0; k < 4; ++k) a[k] += w * double(v[k]);
         }
+    for (int k = 0; k < 4; ++k) acc[k] = a[k];
     fetches += uint32_t(ax.count * ay.count);
-    return glm::vec4(float(acc[0]), float(acc[1]), float(acc[2]), float(acc[3]));
 }
 
 }  // namespace
@@ -98,8 +101,18 @@ glm::vec4 programFetch(const Texture& t, const SamplerState& s, const glm::vec4&
                        int32_t lambda, Path path, uint32_t& fetches) {
     const glm::vec4 mc = mapCoord(t, c);
     if (path == Path::Fast && t.dims() <= 2) {
+        // gatherTaps' weight bits: kSubTexelBits per linearly filtered dimension, kLodFracBits
+        // when two levels are blended (trilinear: the board's mipmapped albedo in impostors).
         const LevelChoice ch = detail::chooseLevelsInline(detail::levelParams(t.levels(), s), lambda);
-        if (!ch.blend) return fetchOneLevel(t, s, mc, ch.level0, ch.filter, fetches);
+        const int bits = (ch.filter == FilterMode::Linear ? t.dims() : 0) * kSubTexelBits +
+                         (ch.blend ? kLodFracBits : 0);
+        const double scale = 1.0 / double(uint64_t(1) << bits);
+        double acc[4] = {0, 0, 0, 0};
+        accumulateLevel(t, s, mc, ch.level0, ch.filter, ch.blend ? uint64_t(kLodOne - ch.frac) : 1u,
+                        scale, acc, fetches);
+        if (ch.blend)
+            accumulateLevel(t, s, mc, ch.level1, ch.filter, uint64_t(ch.frac), scale, acc, fetches);
+        return glm::vec4(float(acc[0]), float(acc[1]), float(acc[2]), float(acc[3]));
     }
     TapList taps;
     gatherTaps(t, s, mc, lambda, taps);

@@ -103,6 +103,21 @@ TEST(ProgramFetch, LodOfKnownGradientsSelectsTheExpectedLevel) {
         EXPECT_EQ(programFetch(*t, s, glm::vec4(0.3f, 0.6f, 0, 0), programLambdaLod(s, float(k)), Path::Fast, f).x,
                   float(k));
     }
+    // LINEAR between levels (trilinear with bilinear levels): at λ = k + f the levels k and
+    // k + 1 weigh 1 − f and f (OpenGL 2.1 §3.8.8, f in kLodFracBits fixed point), so a
+    // texture whose level l holds l everywhere reads k + f — exact for f a multiple of 1/8.
+    s.magFilter = s.minFilter = FilterMode::Linear;
+    s.mipFilter = MipMode::Linear;
+    for (int k = 0; k < 6; ++k)
+        for (int e = 1; e < 8; ++e) {
+            const float lod = float(k) + float(e) / 8.0f;
+            for (Path path : {Path::Fast, Path::Reference}) {
+                uint32_t n = 0;
+                EXPECT_EQ(programFetch(*t, s, glm::vec4(0.3f, 0.6f, 0, 0), programLambdaLod(s, lod), path, n).x, lod)
+                    << "λ " << lod << (path == Path::Fast ? ", fast" : ", reference");
+                EXPECT_EQ(n, 8u) << "two levels of four taps";
+            }
+        }
 }
 
 }  // namespace
