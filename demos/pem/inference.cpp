@@ -5,33 +5,61 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <tuple>
+#include <cstdlib>
 #include <limits>
+#include <tuple>
 
+#include <immintrin.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
 
 namespace rg::pem {
 
-// ---- conjugate gradient for several channels, one pass over H per step, on every core ------
+// ---- conjugate gradient for several channels, in few passes, on every core ------------------
 //
-// Nearly all of a view's inference is conjugate gradient's product y = H p: H has ~8 M
-// entries at paper settings (~100 MB read per product) and the vectors 0.5 M. The channels
-// of one map (R, G, B; hybrid's four) share H, so they step together here: one pass over H
-// computes every channel's product, and the pass is split into fixed blocks of rows handed
-// to TBB. Each row of each channel is still one thread's sum over the row's entries in
-// storage order, and everything between the products is Eigen's own conjugate_gradient
-// (ConjugateGradient.h, with its DiagonalPreconditioner), expression for expression. So each
-// channel gets the bits Eigen's solver gives it alone on one thread, for any thread count
-// (tests/pem/test_inference_threads.cpp checks both). Eigen's own parallel product needs
-// OpenMP, a second thread pool beside TBB's, and reads H once per channel.
+// Nearly all of a view's inference is conjugate gradient. At paper settings each of a view's
+// six systems has 0.5 M texels and H 4.2-4.9 M entries, and takes 230-420 steps; the core
+// retires ~2.4 instructions a cycle through it (perf stat), so what a step costs is mostly
+// the instructions it takes. The channels of one map (R, G, B; hybrid's four) share H and
+// step together:
+//   1. one pass over H computes every channel's product y = (H + P) p and, in the same pass,
+//      p·y; the channels' operands are packed four to a texel, so that with AVX2 one
+//      instruction multiplies an entry of H into all four (PackedOperands);
+//   2. a second pass updates x and r and sums r·r and r·M⁻¹r;
+//   3. a third sets the next direction p = M⁻¹r + βp.
+// M is the diagonal (Jacobi) preconditioner and every step is Eigen's conjugate_gradient's
+// (ConjugateGradient.h) expression for expression, but where Eigen's reads the vectors in six
+// passes with its dot products on one thread, here three passes on every core do it.
+// Measured on one paper view (docs/performance.md): 321 G instructions and 135 G cycles of
+// the whole view before, 194 G and 109 G after.
+//
+// Bit for bit on any thread count: every pass is split into blocks of fixed size; a row of a
+// product is one sum over the row's entries in storage order, then the channel's pin (its
+// diagonal weight of this round) times v_i; every dot product is the sum, in block order, of
+// each block's sum over four interleaved lanes (Lanes). Nothing depends on which thread ran
+// which block, on the kernel (AVX2 or the plain loop, packed or one channel alone: their
+// lanes do the same IEEE operations in the same order), or on the other channels. The sums'
+// order differs from Eigen's, so the result is Eigen's solution to its rounding, not its bits
+// (tests/pem/test_inference_threads.cpp checks all of these).
 namespace {
 
-// Rows per TBB task: fixed, so the split never depends on the thread count (it could not
-// change the result anyway, each row being summed whole). A task's rows of H (~20 entries
-// each, 12 bytes an entry: ~250 KB) stay in L2 while each channel's product reads them.
+// Rows per task of a product: a task's rows of H (~9 entries each, 12 bytes an entry:
+// ~110 KB) and the channels' operands near them stay in L2.
 constexpr int64_t kRowsPerTask = 1024;
+// Elements per task, and per partial sum, of the element-wise passes (a multiple of four:
+// Lanes).
+constexpr int64_t kElementsPerTask = 16384;
+static_assert(kElementsPerTask % 4 == 0);
+
+// Four interleaved partial sums over one block (element i to lane i mod 4): independent
+// additions the compiler can pipeline and vectorise without reassociating anything, in an
+// order fixed by the block alone.
+struct Lanes {
+    double s[4] = {0.0, 0.0, 0.0, 0.0};
+    void add(int64_t i, double v) { s[i & 3] += v; }
+    double total() const { return (s[0] + s[1]) + (s[2] + s[3]); }
+};
 
 // One channel's solve: Eigen's conjugate_gradient as a state machine that stops whenever it
 // needs y = (H + P) v, P the channel's diagonal pins of this round.
@@ -40,13 +68,97 @@ struct ChannelSolve {
     Need need = Need::Residual;
     Eigen::VectorXd rhs, x, pinWeight, pinValue;      // across rounds
     Eigen::VectorXd rp, diagonal, invDiagonal;        // this round: rhs + P·pins, diag(H + P)
-    Eigen::VectorXd residual, p, z, y;                // conjugate gradient's vectors
-    double rhsNorm2 = 0, threshold = 0, residualNorm2 = 0, absNew = 0;
+    Eigen::VectorXd residual, p, y;                   // conjugate gradient's vectors
+    std::vector<double> partial;                      // per block: the pass's partial sums
+    double threshold = 0, residualNorm2 = 0, absNew = 0, alpha = 0, beta = 0;
     Eigen::Index i = 0;
     int round = 0;
     InferenceStats stats;
+    double* packedV = nullptr;                        // its slot of its group's operands,
+    double* packedPin = nullptr;                      // stride 4; nullptr: a group of one
     const Eigen::VectorXd& operand() const { return need == Need::Residual ? x : p; }
 };
+
+// H's rows for the product: H is symmetric, so column i of the column-major matrix is row i.
+struct NormalRows {
+    const double* values;
+    const int* inner;
+    const int* outer;
+};
+
+NormalRows normalRows(const Eigen::SparseMatrix<double>& H) {
+    return {H.valuePtr(), H.innerIndexPtr(), H.outerIndexPtr()};
+}
+
+// One channel's product y = (H + P) v over rows [begin, end), and py += v_i y_i row by row.
+// A row is one sum: its entries of H in storage order, then the channel's pin of this round
+// (P's diagonal) times v_i. One loop a row, no split at the diagonal: a row's end is the
+// branch the core mispredicts, so one per row, not two.
+void productRows(int64_t begin, int64_t end, const NormalRows& H, const double* v,
+                 const double* pin, double* y, double& py) {
+    for (int64_t i = begin; i < end; ++i) {
+        double sum = 0.0;
+        for (int k = H.outer[i]; k < H.outer[i + 1]; ++k) sum += H.values[k] * v[H.inner[k]];
+        sum += pin[i] * v[i];
+        y[i] = sum;
+        py += v[i] * sum;
+    }
+}
+
+// Channels that share H step together, four to a group, their operands packed: slot s of
+// texel i at v[4 i + s] (and the pins likewise), so that one entry of H and one cache line of
+// operands serve the group's four sums. Each slot's sum is the one-channel kernel's, term for
+// term: the same bits whichever kernel runs (tests/pem/test_inference_threads.cpp).
+constexpr int kSlots = 4;
+struct PackedOperands {
+    const double* v;    // 4 n
+    const double* pin;  // 4 n
+    double* y[kSlots];  // nullptr: slot idle (an empty slot, or a channel done)
+};
+
+// The plain loop, and the reference for the AVX2 one.
+void packedProductRowsScalar(int64_t begin, int64_t end, const NormalRows& H,
+                             const PackedOperands& ops, double* py) {
+    for (int64_t i = begin; i < end; ++i) {
+        double sum[kSlots] = {0.0, 0.0, 0.0, 0.0};
+        for (int k = H.outer[i]; k < H.outer[i + 1]; ++k)
+            for (int c = 0; c < kSlots; ++c) sum[c] += H.values[k] * ops.v[kSlots * H.inner[k] + c];
+        const double* vi = ops.v + kSlots * i;
+        const double* pin = ops.pin + kSlots * i;
+        for (int c = 0; c < kSlots; ++c) {
+            sum[c] += pin[c] * vi[c];
+            if (ops.y[c]) ops.y[c][i] = sum[c];
+            py[c] += vi[c] * sum[c];
+        }
+    }
+}
+
+// The same with the four slots in one AVX2 register: separate multiplies and adds (no FMA),
+// lane for lane the scalar operations.
+__attribute__((target("avx2"))) void packedProductRowsAvx2(int64_t begin, int64_t end,
+                                                           const NormalRows& H,
+                                                           const PackedOperands& ops, double* py) {
+    __m256d pySum = _mm256_loadu_pd(py);
+    for (int64_t i = begin; i < end; ++i) {
+        __m256d sum = _mm256_setzero_pd();
+        for (int k = H.outer[i]; k < H.outer[i + 1]; ++k)
+            sum = _mm256_add_pd(sum, _mm256_mul_pd(_mm256_set1_pd(H.values[k]),
+                                                   _mm256_loadu_pd(ops.v + kSlots * H.inner[k])));
+        const __m256d vi = _mm256_loadu_pd(ops.v + kSlots * i);
+        sum = _mm256_add_pd(sum, _mm256_mul_pd(_mm256_loadu_pd(ops.pin + kSlots * i), vi));
+        alignas(32) double t[kSlots];
+        _mm256_store_pd(t, sum);
+        for (int c = 0; c < kSlots; ++c)
+            if (ops.y[c]) ops.y[c][i] = t[c];
+        pySum = _mm256_add_pd(pySum, _mm256_mul_pd(vi, sum));
+    }
+    _mm256_storeu_pd(py, pySum);
+}
+
+bool avx2Products() {
+    static const bool has = __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
+    return has;
+}
 
 }  // namespace
 
@@ -218,9 +330,11 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
         s.pinValue = Eigen::VectorXd::Zero(n);
     }
 
-    // ---- the steps of one channel between two products (Eigen's conjugate_gradient) --------
+    // ---- the steps of one channel between two passes (Eigen's conjugate_gradient) ----------
     const double tol = o.tolerance;
     const Eigen::Index maxIters = o.maxIterations;
+    const int64_t elementBlocks = (n + kElementsPerTask - 1) / kElementsPerTask;
+    const int64_t rowBlocks = (n + kRowsPerTask - 1) / kRowsPerTask;
     auto startRound = [&](ChannelSolve& s) {
         // Round 0 solves H x = rhs; later rounds pin texels outside [0, 1] to the bound with a
         // strong diagonal weight, H + P, so their neighbours compensate.
@@ -230,7 +344,14 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
         s.invDiagonal = s.diagonal;
         for (int64_t i = 0; i < n; ++i)  // DiagonalPreconditioner: 1 where the diagonal is 0
             s.invDiagonal[i] = s.invDiagonal[i] != 0.0 ? 1.0 / s.invDiagonal[i] : 1.0;
+        s.residual.resize(n);
+        s.p.resize(n);
         s.need = ChannelSolve::Need::Residual;
+        if (s.packedV)  // the round's first product is H x, with this round's pins
+            for (int64_t i = 0; i < n; ++i) {
+                s.packedV[kSlots * i] = s.x[i];
+                s.packedPin[kSlots * i] = s.pinWeight[i];
+            }
     };
     auto endRound = [&](ChannelSolve& s) {
         s.stats.iterations += int(s.i);
@@ -249,59 +370,49 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
         ++s.round;
         startRound(s);
     };
-    auto afterResidualProduct = [&](ChannelSolve& s) {  // s.y = (H + P) x
-        s.residual = s.rp - s.y;
-        s.rhsNorm2 = s.rp.squaredNorm();
-        s.i = 0;
-        if (s.rhsNorm2 == 0) {
-            s.x.setZero();
-            return endRound(s);
+    // An element-wise pass over every channel in `cs`, on every core in fixed blocks:
+    // f(s, begin, end, sums) does elements [begin, end) of channel s and adds to its K sums,
+    // which come back in s.partial[0..K), each the blocks' sums in block order.
+    auto elementPass = [&](const std::vector<ChannelSolve*>& cs, int K, auto f) {
+        for (ChannelSolve* s : cs) s->partial.assign(size_t(elementBlocks * K), 0.0);
+        tbb::parallel_for(int64_t(0), elementBlocks, [&](int64_t b) {
+            const int64_t begin = b * kElementsPerTask, end = std::min(n, begin + kElementsPerTask);
+            for (ChannelSolve* s : cs) {
+                Lanes sums[3];
+                f(*s, begin, end, sums);
+                for (int k = 0; k < K; ++k) s->partial[size_t(b * K + k)] = sums[k].total();
+            }
+        });
+        for (ChannelSolve* s : cs)
+            for (int k = 0; k < K; ++k) {
+                double total = 0.0;
+                for (int64_t b = 0; b < elementBlocks; ++b) total += s->partial[size_t(b * K + k)];
+                s->partial[size_t(k)] = total;
+            }
+    };
+    // Groups of four channels; a group of several packs its operands (PackedOperands).
+    struct Group {
+        size_t first = 0, count = 0;
+        std::vector<double> v, pin;
+    };
+    std::vector<Group> groups;
+    for (size_t c = 0; c < solves.size(); c += kSlots) {
+        Group& g = groups.emplace_back();
+        g.first = c;
+        g.count = std::min(solves.size() - c, size_t(kSlots));
+        if (g.count == 1) continue;
+        g.v.assign(size_t(n) * kSlots, 0.0);
+        g.pin.assign(size_t(n) * kSlots, 0.0);
+        for (size_t k = 0; k < g.count; ++k) {
+            solves[c + k].packedV = g.v.data() + k;
+            solves[c + k].packedPin = g.pin.data() + k;
         }
-        s.threshold = std::max(tol * tol * s.rhsNorm2, std::numeric_limits<double>::min());
-        s.residualNorm2 = s.residual.squaredNorm();
-        if (s.residualNorm2 < s.threshold) return endRound(s);
-        s.p = s.invDiagonal.array() * s.residual.array();
-        s.absNew = s.residual.dot(s.p);
-        if (maxIters <= 0) return endRound(s);
-        s.need = ChannelSolve::Need::Direction;
-    };
-    // Element by element, on every core: each element's arithmetic is Eigen's expression's
-    // (x += α p is x_i + α p_i), so the split cannot change a bit. The sums (dot products,
-    // norms) stay Eigen's, whose order is its own.
-    auto eachElement = [n](auto f) {
-        constexpr int64_t kElementsPerTask = 16384;
-        tbb::parallel_for(int64_t(0), (n + kElementsPerTask - 1) / kElementsPerTask, [&](int64_t b) {
-            const int64_t end = std::min(n, (b + 1) * kElementsPerTask);
-            for (int64_t i = b * kElementsPerTask; i < end; ++i) f(i);
-        });
-    };
-    auto afterDirectionProduct = [&](ChannelSolve& s) {  // s.y = (H + P) p
-        const double alpha = s.absNew / s.p.dot(s.y);
-        // x += α p; r −= α y; and z = M⁻¹ r ahead of the test below, in one pass (unused
-        // when the test ends the round).
-        s.z.resize(n);
-        double *x = s.x.data(), *r = s.residual.data(), *z = s.z.data();
-        const double *p = s.p.data(), *y = s.y.data(), *inv = s.invDiagonal.data();
-        eachElement([=](int64_t i) {
-            x[i] += alpha * p[i];
-            r[i] -= alpha * y[i];
-            z[i] = inv[i] * r[i];
-        });
-        s.residualNorm2 = s.residual.squaredNorm();
-        if (s.residualNorm2 < s.threshold) return endRound(s);
-        const double absOld = s.absNew;
-        s.absNew = s.residual.dot(s.z);
-        const double beta = s.absNew / absOld;
-        double* pw = s.p.data();
-        eachElement([=](int64_t i) { pw[i] = z[i] + beta * pw[i]; });
-        if (++s.i >= maxIters) return endRound(s);
-    };
+    }
     for (ChannelSolve& s : solves) startRound(s);
 
-    // ---- one pass over H for every channel waiting on a product ------------------------------
-    const double* values = H_.valuePtr();
-    const int* inner = H_.innerIndexPtr();
-    const int* outer = H_.outerIndexPtr();
+    const NormalRows H = normalRows(H_);
+    const bool avx2 = avx2Products() && !o.scalarProducts;
+    std::vector<double> pyPartial;
     for (;;) {
         std::vector<ChannelSolve*> active;
         for (ChannelSolve& s : solves)
@@ -310,29 +421,164 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
                 active.push_back(&s);
             }
         if (active.empty()) break;
+
+        // ---- pass 1: y = (H + P) v for every channel, and p·y of those stepping -------------
         // H is symmetric: column i of the column-major matrix is row i. The pin adds to the
-        // diagonal entry, as in the sparse sum H + P.
-        tbb::parallel_for(int64_t(0), (n + kRowsPerTask - 1) / kRowsPerTask, [&](int64_t block) {
-            const int64_t end = std::min(n, (block + 1) * kRowsPerTask);
-            for (ChannelSolve* s : active) {
-                const double* v = s->operand().data();
-                const double* pin = s->pinWeight.data();
-                const bool pinned = s->round > 0;
-                double* y = s->y.data();
-                for (int64_t i = block * kRowsPerTask; i < end; ++i) {
-                    double sum = 0.0;
-                    for (int k = outer[i]; k < outer[i + 1]; ++k) {
-                        const double h = pinned && inner[k] == i ? values[k] + pin[i] : values[k];
-                        sum += h * v[inner[k]];
-                    }
-                    y[i] = sum;
+        // diagonal entry, as in the sparse sum H + P. p·y is summed row by row within a block
+        // and the blocks in order.
+        const size_t N = solves.size();
+        pyPartial.assign(size_t(rowBlocks) * N, 0.0);
+        tbb::parallel_for(int64_t(0), rowBlocks, [&](int64_t block) {
+            const int64_t begin = block * kRowsPerTask, end = std::min(n, begin + kRowsPerTask);
+            double* py = pyPartial.data() + size_t(block) * N;
+            for (Group& g : groups) {
+                ChannelSolve* first = &solves[g.first];
+                if (g.count == 1) {
+                    if (first->need != ChannelSolve::Need::Done)
+                        productRows(begin, end, H, first->operand().data(), first->pinWeight.data(),
+                                    first->y.data(), py[g.first]);
+                    continue;
                 }
+                PackedOperands ops{g.v.data(), g.pin.data(), {nullptr, nullptr, nullptr, nullptr}};
+                bool any = false;
+                for (size_t k = 0; k < g.count; ++k)
+                    if (solves[g.first + k].need != ChannelSolve::Need::Done) {
+                        ops.y[k] = solves[g.first + k].y.data();
+                        any = true;
+                    }
+                if (!any) continue;
+                double sums[kSlots] = {0.0, 0.0, 0.0, 0.0};
+                if (avx2) packedProductRowsAvx2(begin, end, H, ops, sums);
+                else packedProductRowsScalar(begin, end, H, ops, sums);
+                for (size_t k = 0; k < g.count; ++k) py[g.first + k] = sums[k];
             }
         });
+
+        // ---- residual channels (a round's first product): r = rp − H x, p = M⁻¹ r ----------
+        std::vector<ChannelSolve*> starting, stepping;
         for (ChannelSolve* s : active) {
-            if (s->need == ChannelSolve::Need::Residual) afterResidualProduct(*s);
-            else afterDirectionProduct(*s);
+            if (s->need == ChannelSolve::Need::Residual) {
+                starting.push_back(s);
+            } else {
+                const size_t c = size_t(s - solves.data());
+                double py = 0.0;
+                for (int64_t b = 0; b < rowBlocks; ++b) py += pyPartial[size_t(b) * N + c];
+                s->alpha = s->absNew / py;
+                stepping.push_back(s);
+            }
         }
+        if (!starting.empty()) {
+            elementPass(starting, 3, [](ChannelSolve& s, int64_t begin, int64_t end, Lanes* sums) {
+                const double *rp = s.rp.data(), *y = s.y.data(), *inv = s.invDiagonal.data();
+                double *r = s.residual.data(), *p = s.p.data();
+                double* packed = s.packedV;
+                for (int64_t i = begin; i < end; ++i) {
+                    r[i] = rp[i] - y[i];
+                    p[i] = inv[i] * r[i];
+                    if (packed) packed[kSlots * i] = p[i];
+                    sums[0].add(i, rp[i] * rp[i]);
+                    sums[1].add(i, r[i] * r[i]);
+                    sums[2].add(i, r[i] * p[i]);
+                }
+            });
+            for (ChannelSolve* s : starting) {
+                const double rhsNorm2 = s->partial[0];
+                s->i = 0;
+                if (rhsNorm2 == 0) {
+                    s->x.setZero();
+                    endRound(*s);
+                    continue;
+                }
+                s->threshold = std::max(tol * tol * rhsNorm2, std::numeric_limits<double>::min());
+                s->residualNorm2 = s->partial[1];
+                if (s->residualNorm2 < s->threshold || maxIters <= 0) {
+                    endRound(*s);
+                    continue;
+                }
+                s->absNew = s->partial[2];
+                s->need = ChannelSolve::Need::Direction;
+            }
+        }
+
+        // ---- pass 2: x += α p, r −= α y; r·r and r·M⁻¹r -------------------------------------
+        if (stepping.empty()) continue;
+        elementPass(stepping, 2, [](ChannelSolve& s, int64_t begin, int64_t end, Lanes* sums) {
+            // Lanes 0-1 and 2-3 in one SSE2 register each (x86-64's baseline: the same IEEE
+            // operations as the scalar code, two at a time). Blocks start at multiples of four.
+            const __m128d alpha = _mm_set1_pd(s.alpha);
+            const double *p = s.p.data(), *y = s.y.data(), *inv = s.invDiagonal.data();
+            double *x = s.x.data(), *r = s.residual.data();
+            __m128d rr01 = _mm_setzero_pd(), rr23 = _mm_setzero_pd();
+            __m128d rz01 = _mm_setzero_pd(), rz23 = _mm_setzero_pd();
+            int64_t i = begin;
+            for (; i + 4 <= end; i += 4) {
+                // x += α p
+                _mm_storeu_pd(x + i, _mm_add_pd(_mm_loadu_pd(x + i), _mm_mul_pd(alpha, _mm_loadu_pd(p + i))));
+                _mm_storeu_pd(x + i + 2, _mm_add_pd(_mm_loadu_pd(x + i + 2),
+                                                    _mm_mul_pd(alpha, _mm_loadu_pd(p + i + 2))));
+                // r −= α y; r·r += r r; r·z += r (M⁻¹ r)
+                const __m128d r01 = _mm_sub_pd(_mm_loadu_pd(r + i), _mm_mul_pd(alpha, _mm_loadu_pd(y + i)));
+                const __m128d r23 = _mm_sub_pd(_mm_loadu_pd(r + i + 2), _mm_mul_pd(alpha, _mm_loadu_pd(y + i + 2)));
+                _mm_storeu_pd(r + i, r01);
+                _mm_storeu_pd(r + i + 2, r23);
+                rr01 = _mm_add_pd(rr01, _mm_mul_pd(r01, r01));
+                rr23 = _mm_add_pd(rr23, _mm_mul_pd(r23, r23));
+                rz01 = _mm_add_pd(rz01, _mm_mul_pd(r01, _mm_mul_pd(_mm_loadu_pd(inv + i), r01)));
+                rz23 = _mm_add_pd(rz23, _mm_mul_pd(r23, _mm_mul_pd(_mm_loadu_pd(inv + i + 2), r23)));
+            }
+            double rr[4], rz[4];
+            _mm_storeu_pd(rr, rr01);
+            _mm_storeu_pd(rr + 2, rr23);
+            _mm_storeu_pd(rz, rz01);
+            _mm_storeu_pd(rz + 2, rz23);
+            for (; i < end; ++i) {
+                x[i] += s.alpha * p[i];
+                r[i] -= s.alpha * y[i];
+                rr[i & 3] += r[i] * r[i];
+                rz[i & 3] += r[i] * (inv[i] * r[i]);
+            }
+            for (int l = 0; l < 4; ++l) {
+                sums[0].s[l] = rr[l];
+                sums[1].s[l] = rz[l];
+            }
+        });
+        std::vector<ChannelSolve*> onward;
+        for (ChannelSolve* s : stepping) {
+            s->residualNorm2 = s->partial[0];
+            if (s->residualNorm2 < s->threshold) {
+                endRound(*s);
+                continue;
+            }
+            const double absOld = s->absNew;
+            s->absNew = s->partial[1];
+            s->beta = s->absNew / absOld;
+            onward.push_back(s);
+        }
+
+        // ---- pass 3: p = M⁻¹ r + β p ---------------------------------------------------------
+        if (onward.empty()) continue;
+        elementPass(onward, 0, [](ChannelSolve& s, int64_t begin, int64_t end, Lanes*) {
+            const __m128d beta = _mm_set1_pd(s.beta);
+            const double *r = s.residual.data(), *inv = s.invDiagonal.data();
+            double* p = s.p.data();
+            double* packed = s.packedV;
+            int64_t i = begin;
+            for (; i + 2 <= end; i += 2) {
+                const __m128d pi = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(inv + i), _mm_loadu_pd(r + i)),
+                                              _mm_mul_pd(beta, _mm_loadu_pd(p + i)));
+                _mm_storeu_pd(p + i, pi);
+                if (packed) {
+                    _mm_storel_pd(packed + kSlots * i, pi);
+                    _mm_storeh_pd(packed + kSlots * (i + 1), pi);
+                }
+            }
+            for (; i < end; ++i) {
+                p[i] = inv[i] * r[i] + s.beta * p[i];
+                if (packed) packed[kSlots * i] = p[i];
+            }
+        });
+        for (ChannelSolve* s : onward)
+            if (++s->i >= maxIters) endRound(*s);
     }
 
     // ---- clamp, and how well each channel's clamped map reproduces its b ---------------------

@@ -45,6 +45,7 @@ struct InferenceOptions {
     int maxIterations = 300;
     double tolerance = 1e-5;    // relative residual of CG; far below 8-bit quantization
     int boundRounds = 2;        // active-set rounds that pin out-of-range texels to [0, 1]
+    bool scalarProducts = false;// the plain loop for the packed products, not AVX2 (tests)
 };
 
 struct InferenceStats {

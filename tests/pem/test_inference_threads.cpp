@@ -71,12 +71,14 @@ TEST(InferenceThreads, ASolveIsTheSameInEveryBitOnOneTwoAndThreeThreads) {
 }
 
 // The reference beside the fast path: Eigen's own ConjugateGradient (its Jacobi
-// preconditioner, one thread) on the same normal equations gives the same bits, and so does
-// each channel solved alone against the channels solved together.
-TEST(InferenceThreads, ChannelsSolvedTogetherAreEigensConjugateGradientBitForBit) {
+// preconditioner, one thread) on the same normal equations. The solver's sums run in another
+// (fixed) order than Eigen's, so the two agree to rounding, not to the bit: the same number
+// of steps and every texel within 1e-9 (an 8-bit texel is 1/255 wide). Each channel solved
+// alone is the bits of the channels solved together.
+TEST(InferenceThreads, ChannelsSolvedTogetherAgreeWithEigensConjugateGradient) {
     const RenderingMatrix m = randomCubeMatrix(20000, 6);
     std::mt19937 rng(10);
-    std::vector<std::vector<Eigen::VectorXd>> channels(3);
+    std::vector<std::vector<Eigen::VectorXd>> channels(5);  // more than one sweep's four
     for (auto& c : channels) {
         Eigen::VectorXd b(m.A.rows());
         // 0.2..0.8: the solution stays in [0, 1], so no texel is pinned and the solve is
@@ -85,13 +87,16 @@ TEST(InferenceThreads, ChannelsSolvedTogetherAreEigensConjugateGradientBitForBit
         c.push_back(b);
     }
     InferenceOptions o;
-    o.maxIterations = 60;
+    o.maxIterations = 400;
     o.boundRounds = 0;
     const InferenceSystem system(m, o);
     std::vector<InferenceStats> st;
     const std::vector<Eigen::VectorXd> together = onThreads(3, [&] { return system.solveChannels(channels, &st); });
-    ASSERT_EQ(together.size(), 3u);
-    for (size_t c = 0; c < 3; ++c) {
+    ASSERT_EQ(together.size(), channels.size());
+    InferenceOptions scalar = o;
+    scalar.scalarProducts = true;
+    const std::vector<Eigen::VectorXd> loop = InferenceSystem(m, scalar).solveChannels(channels);
+    for (size_t c = 0; c < channels.size(); ++c) {
         SCOPED_TRACE("channel " + std::to_string(c));
         const Eigen::VectorXd& b = channels[c][0];
         // rhs = Aᵀb + μ·mean(b), the guess mean(b): inference.h's normal equations.
@@ -106,12 +111,58 @@ TEST(InferenceThreads, ChannelsSolvedTogetherAreEigensConjugateGradientBitForBit
             cg.solveWithGuess(rhs, Eigen::VectorXd::Constant(rhs.size(), mean))
                 .cwiseMax(0.0)
                 .cwiseMin(1.0);
-        EXPECT_EQ(st[c].iterations, int(cg.iterations()));
+        ASSERT_EQ(cg.info(), Eigen::Success) << "Eigen's solve did not converge: no oracle";
         EXPECT_GT(st[c].iterations, 10);
-        EXPECT_EQ(std::memcmp(together[c].data(), eigen.data(), size_t(eigen.size()) * sizeof(double)), 0)
-            << "differs from Eigen's ConjugateGradient";
+        EXPECT_LE(std::abs(st[c].iterations - int(cg.iterations())), 1)
+            << "ours " << st[c].iterations << " steps, Eigen's " << cg.iterations();
+        EXPECT_LE((together[c] - eigen).cwiseAbs().maxCoeff(), 1e-9) << "differs from Eigen's ConjugateGradient";
         const Eigen::VectorXd alone = onThreads(1, [&] { return system.solve(channels[c]); });
         EXPECT_EQ(std::memcmp(together[c].data(), alone.data(), size_t(alone.size()) * sizeof(double)), 0)
+            << "differs from the channel solved alone";
+        EXPECT_EQ(std::memcmp(together[c].data(), loop[c].data(), size_t(alone.size()) * sizeof(double)), 0)
+            << "the AVX2 kernel differs from its plain loop";
+    }
+}
+
+// The rounds that pin texels outside [0, 1] (inference.h, boundRounds) add each channel's pin
+// to its diagonal inside the product: the packed four-channel kernel on AVX2, the same kernel's
+// plain loop, and the one-channel kernel (a channel solved alone) give the same bits.
+TEST(InferenceThreads, PinnedRoundsAreTheSameBitsOnEveryKernel) {
+    const RenderingMatrix m = randomCubeMatrix(20000, 7);
+    std::mt19937 rng(11);
+    std::vector<std::vector<Eigen::VectorXd>> channels(3);
+    for (auto& c : channels) {
+        Eigen::VectorXd b(m.A.rows());
+        // Clipped highlights and black: the unconstrained solution leaves [0, 1] (and more so
+        // between the rows), so the rounds pin texels.
+        for (Eigen::Index i = 0; i < b.size(); ++i) {
+            const uint32_t u = rng() % 256;
+            b[i] = u < 40 ? 1.4 : u < 80 ? -0.3 : u / 255.0;
+        }
+        c.push_back(b);
+    }
+    InferenceOptions o;
+    o.maxIterations = 60;
+    const InferenceSystem system(m, o);
+    InferenceOptions scalar = o;
+    scalar.scalarProducts = true;
+    const InferenceSystem plain(m, scalar);
+    InferenceOptions once = o;
+    once.boundRounds = 0;
+    const InferenceSystem unpinned(m, once);
+
+    const std::vector<Eigen::VectorXd> packed = onThreads(2, [&] { return system.solveChannels(channels); });
+    const std::vector<Eigen::VectorXd> loop = onThreads(2, [&] { return plain.solveChannels(channels); });
+    const std::vector<Eigen::VectorXd> first = onThreads(2, [&] { return unpinned.solveChannels(channels); });
+    for (size_t c = 0; c < channels.size(); ++c) {
+        SCOPED_TRACE("channel " + std::to_string(c));
+        const size_t bytes = size_t(packed[c].size()) * sizeof(double);
+        ASSERT_GT((packed[c] - first[c]).cwiseAbs().maxCoeff(), 1e-3)
+            << "the pinning rounds changed nothing: nothing was pinned, nothing compared";
+        EXPECT_EQ(std::memcmp(packed[c].data(), loop[c].data(), bytes), 0)
+            << "the AVX2 kernel differs from its plain loop";
+        const Eigen::VectorXd alone = onThreads(1, [&] { return system.solve(channels[c]); });
+        EXPECT_EQ(std::memcmp(packed[c].data(), alone.data(), bytes), 0)
             << "differs from the channel solved alone";
     }
 }
