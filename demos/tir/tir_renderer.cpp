@@ -97,15 +97,27 @@ TirRenderer::TirRenderer(const TirScene& scene, int threads, Path path, int text
     radius_ = 0.5f * glm::length(hi - lo);
     centre_ = 0.5f * (lo + hi);
 
-    // Wyman 2005's d_N: from each vertex, inwards along −N, to the far side (Embree).
+    // Wyman 2005's d_N: from each vertex, inwards along −N, to the far side. Embree finds the
+    // triangle; the distance is ours, to that triangle's plane in float in a fixed order:
+    // Embree's own t comes from whichever kernel the CPU selects (AVX2 here, AVX-512
+    // elsewhere) and differs by an ulp between them, and d_N is vertex data a golden trace
+    // holds (tests/golden/programmable-tir-frame.trace).
+    auto distanceToPlane = [this](const ray::Ray& r, uint32_t triangle) {
+        const glm::vec3 a = refractor_.vertices[refractor_.indices[3 * size_t(triangle)]].position;
+        const glm::vec3 b = refractor_.vertices[refractor_.indices[3 * size_t(triangle) + 1]].position;
+        const glm::vec3 c = refractor_.vertices[refractor_.indices[3 * size_t(triangle) + 2]].position;
+        const glm::vec3 n = glm::cross(b - a, c - a);
+        const float along = glm::dot(r.dir, n);
+        return along != 0.0f ? glm::dot(a - r.origin, n) / along : 0.0f;
+    };
     {
         ray::Accel accel(s);
         for (TirVertex& v : refractor_.vertices) {
             ray::Ray r;
             r.dir = -v.normal;
             r.origin = v.position + r.dir * (1e-4f * radius_);
-            ray::Hit h = accel.intersect(r);
-            v.dN = h.valid() && h.object == scene.refractor ? h.t : 0.0f;
+            const ray::Hit h = accel.intersect(r);
+            v.dN = h.valid() && h.object == scene.refractor ? distanceToPlane(r, h.triangle) : 0.0f;
         }
     }
 
