@@ -423,9 +423,10 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
         if (active.empty()) break;
 
         // ---- pass 1: y = (H + P) v for every channel, and p·y of those stepping -------------
-        // H is symmetric: column i of the column-major matrix is row i. The pin adds to the
-        // diagonal entry, as in the sparse sum H + P. p·y is summed row by row within a block
-        // and the blocks in order.
+        // A row's sum is its entries of H in storage order, then the channel's pin times v_i
+        // (productRows). A group of several channels runs the packed kernel over all four
+        // slots and keeps the sums of those not done; p·y is summed row by row within a
+        // block, and the blocks in order.
         const size_t N = solves.size();
         pyPartial.assign(size_t(rowBlocks) * N, 0.0);
         tbb::parallel_for(int64_t(0), rowBlocks, [&](int64_t block) {
