@@ -16,6 +16,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "core/cpu.h"
 #include "core/error.h"
 #include "pipeline.h"
 #include "rasterizer/fragment_ops.h"
@@ -167,8 +168,7 @@ glm::vec4 VertexContext::sampleLevel(int u, const glm::vec4& c, float lod) {
 // ---- quad context -------------------------------------------------------------------------
 
 bool detail::programAvx2() {
-    static const bool has = __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
-    return has;
+    return avx2Enabled();
 }
 
 void QuadContext::undeclaredTarget(int target) const { undeclared("quad program", false, target); }

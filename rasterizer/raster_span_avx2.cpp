@@ -10,13 +10,14 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "core/cpu.h"
+
 namespace rg::raster::detail {
 
 // RETROGLASS_NO_AVX2 (any value) selects the SSE2 kernels on an AVX2 machine, so that the
 // differential test can hold them to the reference too (tests/rasterizer/CMakeLists.txt).
 bool haveAvx2() {
-    static const bool has = __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
-    return has;
+    return avx2Enabled();
 }
 
 namespace {

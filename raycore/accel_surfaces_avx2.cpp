@@ -14,13 +14,13 @@
 #include <cstddef>
 #include <cstdlib>
 
+#include "core/cpu.h"
 #include "raycore/accel.h"
 
 namespace rg::ray {
 
 bool Accel::avx2Available() {
-    static const bool has = __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
-    return has;
+    return avx2Enabled();
 }
 
 namespace {

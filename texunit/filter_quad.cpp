@@ -30,6 +30,7 @@
 #include <cstring>
 
 #include "addressing.h"
+#include "core/cpu.h"
 #include "cube_select.h"
 #include "stage_arith.h"
 
@@ -399,8 +400,7 @@ template <bool kTwoD>
 // RETROGLASS_NO_AVX2 (any value) selects the SSE2 kernels, as it does the rasterizer's
 // (PathsAgree.WithoutAvx2 then holds them to the reference end to end).
 bool haveAvx2() {
-    static const bool has = __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
-    return has;
+    return avx2Enabled();
 }
 }  // namespace
 std::atomic<bool> avx2Allowed{true};  // allowAvx2Kernels (texture_units.h)

@@ -5,13 +5,13 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <cstdlib>
 #include <limits>
 #include <tuple>
 
 #include <immintrin.h>
 #include <tbb/parallel_for.h>
 
+#include "core/cpu.h"
 #include "core/error.h"
 
 namespace rg::pem {
@@ -153,11 +153,6 @@ __attribute__((target("avx2"))) void packedProductRowsAvx2(int64_t begin, int64_
         pySum = _mm256_add_pd(pySum, _mm256_mul_pd(vi, sum));
     }
     _mm256_storeu_pd(py, pySum);
-}
-
-bool avx2Products() {
-    static const bool has = __builtin_cpu_supports("avx2") && !std::getenv("RETROGLASS_NO_AVX2");
-    return has;
 }
 
 }  // namespace
@@ -411,7 +406,7 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
     for (ChannelSolve& s : solves) startRound(s);
 
     const NormalRows H = normalRows(H_);
-    const bool avx2 = avx2Products() && !o.scalarProducts;
+    const bool avx2 = avx2Enabled() && !o.scalarProducts;
     std::vector<double> pyPartial;
     for (;;) {
         std::vector<ChannelSolve*> active;
