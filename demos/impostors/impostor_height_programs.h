@@ -33,6 +33,9 @@ struct GlassHeightFP {
     static constexpr uint32_t kTargets = kDiagnostics ? 0b1111 : 0b1;
     static constexpr uint32_t kUnits = kMover ? 0b111101 : 0b10001;
     static constexpr bool kWritesDepth = false;
+    // The diagnostic variants render the report's analysis frames, never a timed one: the
+    // SSE2 kernel (programmable_device.h, kWideKernel), which halves these kernels' compile.
+    static constexpr bool kWideKernel = !kDiagnostics;
     HeightGlassConstants h;
     template <class Q>
     void operator()(Q& q) const {

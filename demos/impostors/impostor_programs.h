@@ -230,6 +230,9 @@ struct GlassFP {
     static constexpr uint32_t kTargets = kDiagnostics ? 0b1111 : 0b1;
     static constexpr uint32_t kUnits = kMover ? 0b1111 : 0b11;
     static constexpr bool kWritesDepth = false;
+    // The diagnostic variants render the report's analysis frames, never a timed one: the
+    // SSE2 kernel (programmable_device.h, kWideKernel), which halves these kernels' compile.
+    static constexpr bool kWideKernel = !kDiagnostics;
     GlassConstants k;
     template <class Q>
     void operator()(Q& q) const {

@@ -18,10 +18,12 @@
 #include "rasterizer/device.h"
 #include "rasterizer/trace.h"
 #include "texunit/texture_units.h"
+#ifndef RETROGLASS_GOLDEN_NO_DEMOS
 #include "impostor_programs.h"
 #include "impostor_renderer.h"
 #include "tir_programs.h"
 #include "tir_renderer.h"
+#endif
 
 namespace rg::golden {
 
@@ -766,6 +768,7 @@ const std::vector<ProgramBuilder>& programBuilders() {
                          image.color().size_bytes());
              return image;
          }},
+#ifndef RETROGLASS_GOLDEN_NO_DEMOS  // the sanitizer builds (tests/golden/CMakeLists.txt)
         {{"programmable-tir-frame",
           "geforce8800 (trace version 2): a frame of Davis & Wyman 2007 (demos/tir), the prism at 64x64 with "
           "front-and-back search and 3 bounces: back and front faces into RGBA16F normal/linear-depth maps, the "
@@ -822,6 +825,7 @@ const std::vector<ProgramBuilder>& programBuilders() {
                          image.color().size_bytes());
              return image;
          }},
+#endif
     };
     return b;
 }
@@ -840,8 +844,10 @@ const std::vector<GoldenCase>& goldenCases() {
 
 void registerGoldenPrograms() {
     bench::registerPrograms();
+#ifndef RETROGLASS_GOLDEN_NO_DEMOS
     tir::registerTirPrograms();
     impostors::registerImpostorPrograms();
+#endif
 }
 
 std::vector<uint8_t> buildGoldenTrace(const std::string& name, Framebuffer* live) {

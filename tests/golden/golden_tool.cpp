@@ -89,7 +89,11 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (cmd == "check" && argc == 5) return check(argv[2], argv[3], argv[4]);
-        std::fprintf(stderr, "usage: retroglass_golden write DIR | manifest DIR | check NAME FILE HASH\n");
+        if (cmd == "list" && argc == 2) {  // the cases this build has (a sanitizer build: no demo frames)
+            for (const auto& c : rg::golden::goldenCases()) std::printf("%s\n", c.name.c_str());
+            return 0;
+        }
+        std::fprintf(stderr, "usage: retroglass_golden write DIR | manifest DIR | check NAME FILE HASH | list\n");
         return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "retroglass_golden: %s\n", e.what());

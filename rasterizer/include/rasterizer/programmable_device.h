@@ -33,6 +33,18 @@
 #include "rasterizer/quad_program_wide.h"
 #include "rasterizer/state.h"
 
+// The AVX2 kernel's shading is flattened: every call in it inlined, so that no 256-bit value
+// crosses a call (a default-target callee takes them through memory; without flatten the
+// impostor glass programs ran 2.1-2.6x slower, impostor_secant/height, 2 threads). The
+// sanitizer builds define RETROGLASS_NO_FLATTEN (CMakeLists.txt): instrumenting one
+// flattened glass kernel took 36 CPU-minutes and 5.6 GB under address,undefined, against
+// about 1.5 unflattened; the operations, and so the bytes, are the same either way.
+#ifdef RETROGLASS_NO_FLATTEN
+#define RG_KERNEL_FLATTEN
+#else
+#define RG_KERNEL_FLATTEN gnu::flatten
+#endif
+
 namespace rg::raster {
 
 namespace detail {
@@ -352,6 +364,20 @@ constexpr bool kIsGroupProgram = kIsQuadProgram<FP> &&
                                      fp(pair);
                                  };
 
+// A group program runs on the AVX2 kernel where the CPU has AVX2, unless it declares
+// kWideKernel = false: then it takes the SSE2 kernel everywhere (the same bytes: the two
+// kernels do the same IEEE operations, ProgrammablePathsAgree). The flattened kernel is the
+// costliest code to compile (1.5-2 CPU-minutes a glass program), so a program that is never
+// timed — the impostors' diagnostic variants, which write their searches' internals for the
+// report's figures — leaves it out.
+template <class FP>
+constexpr bool kWideKernel = [] {
+    if constexpr (requires { FP::kWideKernel; })
+        return bool(FP::kWideKernel);
+    else
+        return true;
+}();
+
 // The quads of a group through the program at once: what shadeQuadLanes does to each, in
 // the same order for everything outside the program (the quads' pixels are distinct, so
 // early tests before the other quads' depth writes see the same values). Quad i belongs
@@ -452,10 +478,9 @@ struct ProgramKernel {
                              int rx0, int ry0, int rx1, int ry1, ProgramCounters& c) {
         if constexpr (kIsGroupProgram<FP>) {
             const auto& k = *static_cast<const ProgramKernel*>(self);
-            if (programAvx2())
-                runQuadGroupsAvx2(k, tris, items, count, rx0, ry0, rx1, ry1, c);
-            else
-                runQuadGroups(k, tris, items, count, rx0, ry0, rx1, ry1, c);
+            if constexpr (kWideKernel<FP>)
+                if (programAvx2()) return runQuadGroupsAvx2(k, tris, items, count, rx0, ry0, rx1, ry1, c);
+            runQuadGroups(k, tris, items, count, rx0, ry0, rx1, ry1, c);
         } else {
             for (uint32_t i = 0; i < count; ++i) runQuads(self, tris[items ? items[i] : i], rx0, ry0, rx1, ry1, c);
         }
@@ -478,7 +503,7 @@ struct ProgramKernel {
     // SSE operations, VEX-encoded — three operands, so the quads' chains need no register
     // copies — and SSE4.1's inserts and extracts for the texel loads. No FMA (target
     // "avx2" alone, and -ffp-contract=off): every operation is the one of the SSE2 build.
-    [[gnu::target("avx2"), gnu::flatten]] static void runQuadGroupsAvx2(const ProgramKernel& k,
+    [[gnu::target("avx2"), RG_KERNEL_FLATTEN]] static void runQuadGroupsAvx2(const ProgramKernel& k,
                                                                      const ProgramTriangle* tris,
                                                                      const uint32_t* items, uint32_t count,
                                                                      int rx0, int ry0, int rx1, int ry1,
