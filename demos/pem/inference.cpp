@@ -19,29 +19,38 @@ namespace rg::pem {
 // ---- conjugate gradient for several channels, in few passes, on every core ------------------
 //
 // Nearly all of a view's inference is conjugate gradient. At paper settings each of a view's
-// six systems has 0.5 M texels and H 4.2-4.9 M entries, and takes 230-420 steps; the core
-// retires ~2.4 instructions a cycle through it (perf stat), so what a step costs is mostly
-// the instructions it takes. The channels of one map (R, G, B; hybrid's four) share H and
-// step together:
-//   1. one pass over H computes every channel's product y = (H + P) p and, in the same pass,
-//      p·y; the channels' operands are packed four to a texel, so that with AVX2 one
-//      instruction multiplies an entry of H into all four (PackedOperands);
-//   2. a second pass updates x and r and sums r·r and r·M⁻¹r;
-//   3. a third sets the next direction p = M⁻¹r + βp.
-// M is the diagonal (Jacobi) preconditioner and every step is Eigen's conjugate_gradient's
-// (ConjugateGradient.h) expression for expression, but where Eigen's reads the vectors in six
-// passes with its dot products on one thread, here three passes on every core do it.
-// Measured on one paper view (docs/performance.md): 321 G instructions and 135 G cycles of
-// the whole view before, 194 G and 109 G after.
+// six systems has 0.5 M texels and H 4.2-4.9 M entries. The channels of one map (R, G, B;
+// hybrid's four) share H and step together, their vectors packed four to a texel (a group of
+// one channel: one to a texel), so that one pass over H serves them all. A step is
+//   1. one pass over H: every channel's product y = (H + P) p, and in the same pass p·y;
+//      with AVX2 one instruction multiplies an entry of H into all four channels;
+//   2. an element pass: x += α p, r −= α y, and r·r;
+//   3. the preconditioner z = M⁻¹ r: symmetric Gauss–Seidel, face by face (below), and r·z;
+//   4. an element pass: the next direction p = z + β p.
+// Every step is Eigen's conjugate_gradient's (ConjugateGradient.h) expression for expression;
+// only the preconditioner differs from Eigen's diagonal one.
 //
-// Bit for bit on any thread count: every pass is split into blocks of fixed size; a row of a
-// product is one sum over the row's entries in storage order, then the channel's pin (its
-// diagonal weight of this round) times v_i; every dot product is the sum, in block order, of
-// each block's sum over four interleaved lanes (Lanes). Nothing depends on which thread ran
-// which block, on the kernel (AVX2 or the plain loop, packed or one channel alone: their
-// lanes do the same IEEE operations in the same order), or on the other channels. The sums'
-// order differs from Eigen's, so the result is Eigen's solution to its rounding, not its bits
-// (tests/pem/test_inference_threads.cpp checks all of these).
+// The preconditioner. With Jacobi's (M = D) the systems took 230-420 steps: each pixel's
+// value is shared between a texel and its parents one MIPMAP level up (trilinear), so H has
+// strongly coupled pairs across levels that only the weak level coupling and smoothness (1e-3
+// against data weights of 1-150) tell apart, and a diagonal preconditioner sees none of that.
+// Symmetric Gauss–Seidel, M = (D + L) D⁻¹ (D + U) with L and U H's strict triangles, sees every
+// coupling of a row. Measured on view 10's six systems at paper settings (round 0): 58-68
+// steps against 211-258 with Jacobi; an incomplete Cholesky factor did no better (54-63).
+// Its two sweeps are sequential, so M is block-diagonal: one block per cube face, the face's
+// texels at every level in texel order (L and U keep only entries within the face). Neither
+// the regulariser nor a bilinear footprint couples two faces, so dropping those entries cost
+// nothing measurable (the same step counts as one sweep over all texels), and the six faces
+// run side by side.
+//
+// Bit for bit on any thread count: every pass is split into blocks of fixed size (the
+// preconditioner's blocks are the faces); a row of a product is one sum over the row's entries
+// in storage order, then the channel's pin (its diagonal weight of this round) times v_i; a
+// sweep's row likewise, in storage order; every dot product is the sum, in block order, of each
+// block's sum, four interleaved lanes in an element pass, row order in a sweep. Nothing
+// depends on which thread ran which block, on the kernel (AVX2 or the plain loop, packed or
+// one channel alone: their lanes do the same IEEE operations in the same order), or on the
+// other channels (tests/pem/test_inference_threads.cpp checks all of these).
 namespace {
 
 // Rows per task of a product: a task's rows of H (~9 entries each, 12 bytes an entry:
@@ -61,22 +70,35 @@ struct Lanes {
     double total() const { return (s[0] + s[1]) + (s[2] + s[3]); }
 };
 
+// A group's vectors that the passes over H read or write, packed: channel (slot) c of texel i
+// at [stride·i + c], stride 4 for a group of several channels, 1 for a group of one.
+struct Packed {
+    int stride = 1;
+    std::vector<double> v;     // the product's operand: x at a round's start, then p
+    std::vector<double> pin;   // the channel's pin weight of this round (P's diagonal)
+    std::vector<double> r;     // the residual, the preconditioner's input
+    std::vector<double> z;     // M⁻¹ r (the forward sweep's result first, in place)
+    std::vector<double> d, invD;  // diag(H + P) and its inverse (1 where it is 0)
+};
+
 // One channel's solve: Eigen's conjugate_gradient as a state machine that stops whenever it
-// needs y = (H + P) v, P the channel's diagonal pins of this round.
+// needs y = (H + P) v or z = M⁻¹ r, P the channel's diagonal pins of this round.
 struct ChannelSolve {
     enum class Need { Residual, Direction, Done };
     Need need = Need::Residual;
     Eigen::VectorXd rhs, x, pinWeight, pinValue;      // across rounds
-    Eigen::VectorXd rp, diagonal, invDiagonal;        // this round: rhs + P·pins, diag(H + P)
+    Eigen::VectorXd rp, diagonal;                     // this round: rhs + P·pins, diag(H + P)
     Eigen::VectorXd residual, p, y;                   // conjugate gradient's vectors
     std::vector<double> partial;                      // per block: the pass's partial sums
-    double threshold = 0, residualNorm2 = 0, absNew = 0, alpha = 0, beta = 0;
+    double threshold = 0, residualNorm2 = 0, absNew = 0, alpha = 0, beta = 0, rz = 0;
     Eigen::Index i = 0;
     int round = 0;
+    bool starting = false;                            // this step began a round
     InferenceStats stats;
-    double* packedV = nullptr;                        // its slot of its group's operands,
-    double* packedPin = nullptr;                      // stride 4; nullptr: a group of one
+    Packed* packed = nullptr;                         // its group's
+    int slot = 0;
     const Eigen::VectorXd& operand() const { return need == Need::Residual ? x : p; }
+    double& at(std::vector<double>& v, int64_t i) const { return v[size_t(packed->stride * i + slot)]; }
 };
 
 // H's rows for the product: H is symmetric, so column i of the column-major matrix is row i.
@@ -153,6 +175,69 @@ __attribute__((target("avx2"))) void packedProductRowsAvx2(int64_t begin, int64_
         pySum = _mm256_add_pd(pySum, _mm256_mul_pd(vi, sum));
     }
     _mm256_storeu_pd(py, pySum);
+}
+
+// ---- symmetric Gauss–Seidel over one block: z = (D + U)⁻¹ D (D + L)⁻¹ r -------------------
+// Forward, rows in increasing order: t_i = (r_i − Σ_{j<i} H_ij t_j) / d_i, the row's lower
+// entries subtracted in storage order, then multiplied by 1/d_i. Backward, rows in decreasing
+// order: z_i = (d_i t_i − Σ_{j>i} H_ij z_j) / d_i, in place over t (z_j, j > i, is done when row
+// i reads it). rz += r_i z_i in the backward sweep's row order. S channels packed per texel;
+// each slot's operations are those of S = 1.
+struct TriangleRows {
+    const double* values;
+    const int* inner;
+    const int* outer;
+};
+
+template <int S>
+void sweepBlockScalar(const std::vector<std::pair<int64_t, int64_t>>& ranges, const TriangleRows& L,
+                      const TriangleRows& U, const Packed& g, double* z, double* rz) {
+    const double *r = g.r.data(), *d = g.d.data(), *invD = g.invD.data();
+    for (const auto& [begin, end] : ranges)
+        for (int64_t i = begin; i < end; ++i) {
+            double sum[S];
+            for (int c = 0; c < S; ++c) sum[c] = r[S * i + c];
+            for (int k = L.outer[i]; k < L.outer[i + 1]; ++k)
+                for (int c = 0; c < S; ++c) sum[c] -= L.values[k] * z[S * int64_t(L.inner[k]) + c];
+            for (int c = 0; c < S; ++c) z[S * i + c] = sum[c] * invD[S * i + c];
+        }
+    for (auto range = ranges.rbegin(); range != ranges.rend(); ++range)
+        for (int64_t i = range->second - 1; i >= range->first; --i) {
+            double sum[S];
+            for (int c = 0; c < S; ++c) sum[c] = d[S * i + c] * z[S * i + c];
+            for (int k = U.outer[i]; k < U.outer[i + 1]; ++k)
+                for (int c = 0; c < S; ++c) sum[c] -= U.values[k] * z[S * int64_t(U.inner[k]) + c];
+            for (int c = 0; c < S; ++c) {
+                z[S * i + c] = sum[c] * invD[S * i + c];
+                rz[c] += r[S * i + c] * z[S * i + c];
+            }
+        }
+}
+
+__attribute__((target("avx2"))) void sweepBlockAvx2(
+    const std::vector<std::pair<int64_t, int64_t>>& ranges, const TriangleRows& L,
+    const TriangleRows& U, const Packed& g, double* z, double* rz) {
+    const double *r = g.r.data(), *d = g.d.data(), *invD = g.invD.data();
+    for (const auto& [begin, end] : ranges)
+        for (int64_t i = begin; i < end; ++i) {
+            __m256d sum = _mm256_loadu_pd(r + kSlots * i);
+            for (int k = L.outer[i]; k < L.outer[i + 1]; ++k)
+                sum = _mm256_sub_pd(sum, _mm256_mul_pd(_mm256_set1_pd(L.values[k]),
+                                                       _mm256_loadu_pd(z + kSlots * int64_t(L.inner[k]))));
+            _mm256_storeu_pd(z + kSlots * i, _mm256_mul_pd(sum, _mm256_loadu_pd(invD + kSlots * i)));
+        }
+    __m256d rzSum = _mm256_loadu_pd(rz);
+    for (auto range = ranges.rbegin(); range != ranges.rend(); ++range)
+        for (int64_t i = range->second - 1; i >= range->first; --i) {
+            __m256d sum = _mm256_mul_pd(_mm256_loadu_pd(d + kSlots * i), _mm256_loadu_pd(z + kSlots * i));
+            for (int k = U.outer[i]; k < U.outer[i + 1]; ++k)
+                sum = _mm256_sub_pd(sum, _mm256_mul_pd(_mm256_set1_pd(U.values[k]),
+                                                       _mm256_loadu_pd(z + kSlots * int64_t(U.inner[k]))));
+            const __m256d zi = _mm256_mul_pd(sum, _mm256_loadu_pd(invD + kSlots * i));
+            _mm256_storeu_pd(z + kSlots * i, zi);
+            rzSum = _mm256_add_pd(rzSum, _mm256_mul_pd(_mm256_loadu_pd(r + kSlots * i), zi));
+        }
+    _mm256_storeu_pd(rz, rzSum);
 }
 
 }  // namespace
@@ -272,6 +357,36 @@ InferenceSystem::InferenceSystem(std::vector<WeightedMatrix> blocks, const Infer
     Eigen::SparseMatrix<double> I(n, n);
     I.setIdentity();
     H_ += o.prior * I;
+    H_.makeCompressed();
+
+    // ---- the preconditioner's blocks (faces) and H's triangles within them ------------------
+    std::vector<int> faceOf(size_t(n), 0);
+    faces_.assign(size_t(L.faces), {});
+    for (int l = 0; l < L.levels(); ++l) {
+        const int64_t s2 = int64_t(L.levelSize(l)) * L.levelSize(l);
+        for (int f = 0; f < L.faces; ++f) {
+            const int64_t begin = L.levelOffset(l) + f * s2;
+            faces_[size_t(f)].emplace_back(begin, begin + s2);
+            std::fill(faceOf.begin() + begin, faceOf.begin() + begin + s2, f);
+        }
+    }
+    const NormalRows rows = normalRows(H_);
+    for (Triangle* t : {&lower_, &upper_}) {
+        t->outer.assign(size_t(n) + 1, 0);
+        t->inner.clear();
+        t->values.clear();
+    }
+    for (int64_t i = 0; i < n; ++i) {
+        for (int k = rows.outer[i]; k < rows.outer[i + 1]; ++k) {
+            const int j = rows.inner[k];
+            if (j == i || faceOf[size_t(j)] != faceOf[size_t(i)]) continue;
+            Triangle& t = j < i ? lower_ : upper_;
+            t.inner.push_back(j);
+            t.values.push_back(rows.values[k]);
+        }
+        lower_.outer[size_t(i) + 1] = int(lower_.inner.size());
+        upper_.outer[size_t(i) + 1] = int(upper_.inner.size());
+    }
 }
 
 Eigen::VectorXd InferenceSystem::solve(const Eigen::VectorXd& b, InferenceStats* stats) const {
@@ -325,6 +440,25 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
         s.pinValue = Eigen::VectorXd::Zero(n);
     }
 
+    // ---- the channels' groups: four to a group, their vectors packed (Packed) -------------
+    std::vector<std::unique_ptr<Packed>> groups;
+    for (size_t c = 0; c < solves.size(); c += kSlots) {
+        const size_t count = std::min(solves.size() - c, size_t(kSlots));
+        auto& g = groups.emplace_back(std::make_unique<Packed>());
+        g->stride = count == 1 ? 1 : kSlots;
+        const size_t size = size_t(n) * size_t(g->stride);
+        g->v.assign(size, 0.0);
+        g->pin.assign(size, 0.0);
+        g->r.assign(size, 0.0);
+        g->z.assign(size, 0.0);
+        g->d.assign(size, 1.0);  // an empty slot: finite, never read back
+        g->invD.assign(size, 1.0);
+        for (size_t k = 0; k < count; ++k) {
+            solves[c + k].packed = g.get();
+            solves[c + k].slot = int(k);
+        }
+    }
+
     // ---- the steps of one channel between two passes (Eigen's conjugate_gradient) ----------
     const double tol = o.tolerance;
     const Eigen::Index maxIters = o.maxIterations;
@@ -336,17 +470,16 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
         s.rp = s.rhs;
         if (s.round > 0) s.rp += s.pinWeight.cwiseProduct(s.pinValue);
         s.diagonal = s.round > 0 ? Eigen::VectorXd(hDiagonal + s.pinWeight) : hDiagonal;
-        s.invDiagonal = s.diagonal;
-        for (int64_t i = 0; i < n; ++i)  // DiagonalPreconditioner: 1 where the diagonal is 0
-            s.invDiagonal[i] = s.invDiagonal[i] != 0.0 ? 1.0 / s.invDiagonal[i] : 1.0;
         s.residual.resize(n);
         s.p.resize(n);
         s.need = ChannelSolve::Need::Residual;
-        if (s.packedV)  // the round's first product is H x, with this round's pins
-            for (int64_t i = 0; i < n; ++i) {
-                s.packedV[kSlots * i] = s.x[i];
-                s.packedPin[kSlots * i] = s.pinWeight[i];
-            }
+        Packed& g = *s.packed;
+        for (int64_t i = 0; i < n; ++i) {  // the round's first product is H x, with its pins
+            s.at(g.v, i) = s.x[i];
+            s.at(g.pin, i) = s.pinWeight[i];
+            s.at(g.d, i) = s.diagonal[i];
+            s.at(g.invD, i) = s.diagonal[i] != 0.0 ? 1.0 / s.diagonal[i] : 1.0;
+        }
     };
     auto endRound = [&](ChannelSolve& s) {
         s.stats.iterations += int(s.i);
@@ -385,29 +518,14 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
                 s->partial[size_t(k)] = total;
             }
     };
-    // Groups of four channels; a group of several packs its operands (PackedOperands).
-    struct Group {
-        size_t first = 0, count = 0;
-        std::vector<double> v, pin;
-    };
-    std::vector<Group> groups;
-    for (size_t c = 0; c < solves.size(); c += kSlots) {
-        Group& g = groups.emplace_back();
-        g.first = c;
-        g.count = std::min(solves.size() - c, size_t(kSlots));
-        if (g.count == 1) continue;
-        g.v.assign(size_t(n) * kSlots, 0.0);
-        g.pin.assign(size_t(n) * kSlots, 0.0);
-        for (size_t k = 0; k < g.count; ++k) {
-            solves[c + k].packedV = g.v.data() + k;
-            solves[c + k].packedPin = g.pin.data() + k;
-        }
-    }
     for (ChannelSolve& s : solves) startRound(s);
 
     const NormalRows H = normalRows(H_);
+    const TriangleRows lower{lower_.values.data(), lower_.inner.data(), lower_.outer.data()};
+    const TriangleRows upper{upper_.values.data(), upper_.inner.data(), upper_.outer.data()};
     const bool avx2 = avx2Enabled() && !o.scalarProducts;
-    std::vector<double> pyPartial;
+    const int64_t faceBlocks = int64_t(faces_.size());
+    std::vector<double> pyPartial, rzPartial;
     for (;;) {
         std::vector<ChannelSolve*> active;
         for (ChannelSolve& s : solves)
@@ -427,33 +545,35 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
         tbb::parallel_for(int64_t(0), rowBlocks, [&](int64_t block) {
             const int64_t begin = block * kRowsPerTask, end = std::min(n, begin + kRowsPerTask);
             double* py = pyPartial.data() + size_t(block) * N;
-            for (Group& g : groups) {
-                ChannelSolve* first = &solves[g.first];
-                if (g.count == 1) {
-                    if (first->need != ChannelSolve::Need::Done)
-                        productRows(begin, end, H, first->operand().data(), first->pinWeight.data(),
-                                    first->y.data(), py[g.first]);
+            for (size_t gi = 0; gi < groups.size(); ++gi) {
+                const Packed& g = *groups[gi];
+                const size_t first = gi * kSlots;
+                if (g.stride == 1) {
+                    if (solves[first].need != ChannelSolve::Need::Done)
+                        productRows(begin, end, H, g.v.data(), g.pin.data(), solves[first].y.data(),
+                                    py[first]);
                     continue;
                 }
                 PackedOperands ops{g.v.data(), g.pin.data(), {nullptr, nullptr, nullptr, nullptr}};
                 bool any = false;
-                for (size_t k = 0; k < g.count; ++k)
-                    if (solves[g.first + k].need != ChannelSolve::Need::Done) {
-                        ops.y[k] = solves[g.first + k].y.data();
+                for (size_t k = 0; k < kSlots && first + k < N; ++k)
+                    if (solves[first + k].need != ChannelSolve::Need::Done) {
+                        ops.y[k] = solves[first + k].y.data();
                         any = true;
                     }
                 if (!any) continue;
                 double sums[kSlots] = {0.0, 0.0, 0.0, 0.0};
                 if (avx2) packedProductRowsAvx2(begin, end, H, ops, sums);
                 else packedProductRowsScalar(begin, end, H, ops, sums);
-                for (size_t k = 0; k < g.count; ++k) py[g.first + k] = sums[k];
+                for (size_t k = 0; k < kSlots && first + k < N; ++k) py[first + k] = sums[k];
             }
         });
 
-        // ---- residual channels (a round's first product): r = rp − H x, p = M⁻¹ r ----------
+        // ---- pass 2: a round's start r = rp − H x; a step x += α p, r −= α y; and r·r --------
         std::vector<ChannelSolve*> starting, stepping;
         for (ChannelSolve* s : active) {
-            if (s->need == ChannelSolve::Need::Residual) {
+            s->starting = s->need == ChannelSolve::Need::Residual;
+            if (s->starting) {
                 starting.push_back(s);
             } else {
                 const size_t c = size_t(s - solves.data());
@@ -463,18 +583,18 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
                 stepping.push_back(s);
             }
         }
+        std::vector<ChannelSolve*> sweeping;
         if (!starting.empty()) {
-            elementPass(starting, 3, [](ChannelSolve& s, int64_t begin, int64_t end, Lanes* sums) {
-                const double *rp = s.rp.data(), *y = s.y.data(), *inv = s.invDiagonal.data();
-                double *r = s.residual.data(), *p = s.p.data();
-                double* packed = s.packedV;
+            elementPass(starting, 2, [](ChannelSolve& s, int64_t begin, int64_t end, Lanes* sums) {
+                const double *rp = s.rp.data(), *y = s.y.data();
+                double* r = s.residual.data();
+                const int stride = s.packed->stride;
+                double* packed = s.packed->r.data() + s.slot;
                 for (int64_t i = begin; i < end; ++i) {
                     r[i] = rp[i] - y[i];
-                    p[i] = inv[i] * r[i];
-                    if (packed) packed[kSlots * i] = p[i];
+                    packed[stride * i] = r[i];
                     sums[0].add(i, rp[i] * rp[i]);
                     sums[1].add(i, r[i] * r[i]);
-                    sums[2].add(i, r[i] * p[i]);
                 }
             });
             for (ChannelSolve* s : starting) {
@@ -491,90 +611,116 @@ std::vector<Eigen::VectorXd> InferenceSystem::solveChannels(
                     endRound(*s);
                     continue;
                 }
-                s->absNew = s->partial[2];
-                s->need = ChannelSolve::Need::Direction;
+                sweeping.push_back(s);
             }
         }
-
-        // ---- pass 2: x += α p, r −= α y; r·r and r·M⁻¹r -------------------------------------
-        if (stepping.empty()) continue;
-        elementPass(stepping, 2, [](ChannelSolve& s, int64_t begin, int64_t end, Lanes* sums) {
-            // Lanes 0-1 and 2-3 in one SSE2 register each (x86-64's baseline: the same IEEE
-            // operations as the scalar code, two at a time). Blocks start at multiples of four.
-            const __m128d alpha = _mm_set1_pd(s.alpha);
-            const double *p = s.p.data(), *y = s.y.data(), *inv = s.invDiagonal.data();
-            double *x = s.x.data(), *r = s.residual.data();
-            __m128d rr01 = _mm_setzero_pd(), rr23 = _mm_setzero_pd();
-            __m128d rz01 = _mm_setzero_pd(), rz23 = _mm_setzero_pd();
-            int64_t i = begin;
-            for (; i + 4 <= end; i += 4) {
-                // x += α p
-                _mm_storeu_pd(x + i, _mm_add_pd(_mm_loadu_pd(x + i), _mm_mul_pd(alpha, _mm_loadu_pd(p + i))));
-                _mm_storeu_pd(x + i + 2, _mm_add_pd(_mm_loadu_pd(x + i + 2),
-                                                    _mm_mul_pd(alpha, _mm_loadu_pd(p + i + 2))));
-                // r −= α y; r·r += r r; r·z += r (M⁻¹ r)
-                const __m128d r01 = _mm_sub_pd(_mm_loadu_pd(r + i), _mm_mul_pd(alpha, _mm_loadu_pd(y + i)));
-                const __m128d r23 = _mm_sub_pd(_mm_loadu_pd(r + i + 2), _mm_mul_pd(alpha, _mm_loadu_pd(y + i + 2)));
-                _mm_storeu_pd(r + i, r01);
-                _mm_storeu_pd(r + i + 2, r23);
-                rr01 = _mm_add_pd(rr01, _mm_mul_pd(r01, r01));
-                rr23 = _mm_add_pd(rr23, _mm_mul_pd(r23, r23));
-                rz01 = _mm_add_pd(rz01, _mm_mul_pd(r01, _mm_mul_pd(_mm_loadu_pd(inv + i), r01)));
-                rz23 = _mm_add_pd(rz23, _mm_mul_pd(r23, _mm_mul_pd(_mm_loadu_pd(inv + i + 2), r23)));
-            }
-            double rr[4], rz[4];
-            _mm_storeu_pd(rr, rr01);
-            _mm_storeu_pd(rr + 2, rr23);
-            _mm_storeu_pd(rz, rz01);
-            _mm_storeu_pd(rz + 2, rz23);
-            for (; i < end; ++i) {
-                x[i] += s.alpha * p[i];
-                r[i] -= s.alpha * y[i];
-                rr[i & 3] += r[i] * r[i];
-                rz[i & 3] += r[i] * (inv[i] * r[i]);
-            }
-            for (int l = 0; l < 4; ++l) {
-                sums[0].s[l] = rr[l];
-                sums[1].s[l] = rz[l];
-            }
-        });
-        std::vector<ChannelSolve*> onward;
-        for (ChannelSolve* s : stepping) {
-            s->residualNorm2 = s->partial[0];
-            if (s->residualNorm2 < s->threshold) {
-                endRound(*s);
-                continue;
-            }
-            const double absOld = s->absNew;
-            s->absNew = s->partial[1];
-            s->beta = s->absNew / absOld;
-            onward.push_back(s);
-        }
-
-        // ---- pass 3: p = M⁻¹ r + β p ---------------------------------------------------------
-        if (onward.empty()) continue;
-        elementPass(onward, 0, [](ChannelSolve& s, int64_t begin, int64_t end, Lanes*) {
-            const __m128d beta = _mm_set1_pd(s.beta);
-            const double *r = s.residual.data(), *inv = s.invDiagonal.data();
-            double* p = s.p.data();
-            double* packed = s.packedV;
-            int64_t i = begin;
-            for (; i + 2 <= end; i += 2) {
-                const __m128d pi = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(inv + i), _mm_loadu_pd(r + i)),
-                                              _mm_mul_pd(beta, _mm_loadu_pd(p + i)));
-                _mm_storeu_pd(p + i, pi);
-                if (packed) {
-                    _mm_storel_pd(packed + kSlots * i, pi);
-                    _mm_storeh_pd(packed + kSlots * (i + 1), pi);
+        if (!stepping.empty()) {
+            elementPass(stepping, 1, [](ChannelSolve& s, int64_t begin, int64_t end, Lanes* sums) {
+                // Lanes 0-1 and 2-3 in one SSE2 register each (x86-64's baseline: the same IEEE
+                // operations as the scalar code, two at a time). Blocks start at multiples of four.
+                const __m128d alpha = _mm_set1_pd(s.alpha);
+                const double *p = s.p.data(), *y = s.y.data();
+                double *x = s.x.data(), *r = s.residual.data();
+                const int stride = s.packed->stride;
+                double* packed = s.packed->r.data() + s.slot;
+                __m128d rr01 = _mm_setzero_pd(), rr23 = _mm_setzero_pd();
+                int64_t i = begin;
+                for (; i + 4 <= end; i += 4) {
+                    // x += α p
+                    _mm_storeu_pd(x + i, _mm_add_pd(_mm_loadu_pd(x + i), _mm_mul_pd(alpha, _mm_loadu_pd(p + i))));
+                    _mm_storeu_pd(x + i + 2, _mm_add_pd(_mm_loadu_pd(x + i + 2),
+                                                        _mm_mul_pd(alpha, _mm_loadu_pd(p + i + 2))));
+                    // r −= α y; r·r += r r
+                    const __m128d r01 = _mm_sub_pd(_mm_loadu_pd(r + i), _mm_mul_pd(alpha, _mm_loadu_pd(y + i)));
+                    const __m128d r23 = _mm_sub_pd(_mm_loadu_pd(r + i + 2), _mm_mul_pd(alpha, _mm_loadu_pd(y + i + 2)));
+                    _mm_storeu_pd(r + i, r01);
+                    _mm_storeu_pd(r + i + 2, r23);
+                    _mm_storel_pd(packed + stride * i, r01);
+                    _mm_storeh_pd(packed + stride * (i + 1), r01);
+                    _mm_storel_pd(packed + stride * (i + 2), r23);
+                    _mm_storeh_pd(packed + stride * (i + 3), r23);
+                    rr01 = _mm_add_pd(rr01, _mm_mul_pd(r01, r01));
+                    rr23 = _mm_add_pd(rr23, _mm_mul_pd(r23, r23));
                 }
+                double rr[4];
+                _mm_storeu_pd(rr, rr01);
+                _mm_storeu_pd(rr + 2, rr23);
+                for (; i < end; ++i) {
+                    x[i] += s.alpha * p[i];
+                    r[i] -= s.alpha * y[i];
+                    packed[stride * i] = r[i];
+                    rr[i & 3] += r[i] * r[i];
+                }
+                for (int l = 0; l < 4; ++l) sums[0].s[l] = rr[l];
+            });
+            for (ChannelSolve* s : stepping) {
+                s->residualNorm2 = s->partial[0];
+                if (s->residualNorm2 < s->threshold) {
+                    endRound(*s);
+                    continue;
+                }
+                sweeping.push_back(s);
             }
-            for (; i < end; ++i) {
-                p[i] = inv[i] * r[i] + s.beta * p[i];
-                if (packed) packed[kSlots * i] = p[i];
-            }
+        }
+        if (sweeping.empty()) continue;
+
+        // ---- pass 3: z = M⁻¹ r, face by face, and r·z ---------------------------------------
+        // Every slot of a group is swept (an idle slot's lanes are finite and never read); r·z
+        // is each face's sum in its backward sweep's order, then the faces in order.
+        std::vector<size_t> sweptGroups;
+        for (size_t gi = 0; gi < groups.size(); ++gi)
+            for (ChannelSolve* s : sweeping)
+                if (s->packed == groups[gi].get()) {
+                    sweptGroups.push_back(gi);
+                    break;
+                }
+        rzPartial.assign(sweptGroups.size() * size_t(faceBlocks) * kSlots, 0.0);
+        tbb::parallel_for(int64_t(0), int64_t(sweptGroups.size()) * faceBlocks, [&](int64_t task) {
+            Packed& g = *groups[sweptGroups[size_t(task / faceBlocks)]];
+            const auto& ranges = faces_[size_t(task % faceBlocks)];
+            double* rz = rzPartial.data() + size_t(task) * kSlots;
+            if (g.stride == 1) sweepBlockScalar<1>(ranges, lower, upper, g, g.z.data(), rz);
+            else if (avx2) sweepBlockAvx2(ranges, lower, upper, g, g.z.data(), rz);
+            else sweepBlockScalar<kSlots>(ranges, lower, upper, g, g.z.data(), rz);
         });
-        for (ChannelSolve* s : onward)
-            if (++s->i >= maxIters) endRound(*s);
+        for (size_t t = 0; t < sweptGroups.size(); ++t)
+            for (ChannelSolve* s : sweeping) {
+                if (s->packed != groups[sweptGroups[t]].get()) continue;
+                double rz = 0.0;
+                for (int64_t f = 0; f < faceBlocks; ++f)
+                    rz += rzPartial[(t * size_t(faceBlocks) + size_t(f)) * kSlots + size_t(s->slot)];
+                s->rz = rz;
+            }
+
+        // ---- pass 4: p = z (a round's start) or p = z + β p -------------------------------
+        for (ChannelSolve* s : sweeping) {
+            if (s->starting) {
+                s->absNew = s->rz;
+                s->beta = 0.0;
+            } else {
+                const double absOld = s->absNew;
+                s->absNew = s->rz;
+                s->beta = s->absNew / absOld;
+            }
+        }
+        elementPass(sweeping, 0, [](ChannelSolve& s, int64_t begin, int64_t end, Lanes*) {
+            const int stride = s.packed->stride;
+            const double* z = s.packed->z.data() + s.slot;
+            double* packed = s.packed->v.data() + s.slot;
+            double* p = s.p.data();
+            if (s.starting) {
+                for (int64_t i = begin; i < end; ++i) packed[stride * i] = p[i] = z[stride * i];
+                return;
+            }
+            for (int64_t i = begin; i < end; ++i) packed[stride * i] = p[i] = z[stride * i] + s.beta * p[i];
+        });
+        for (ChannelSolve* s : sweeping) {
+            if (s->starting) {
+                s->need = ChannelSolve::Need::Direction;
+            } else if (++s->i >= maxIters) {
+                endRound(*s);
+            }
+        }
     }
 
     // ---- clamp, and how well each channel's clamped map reproduces its b ---------------------

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Sparse>
@@ -89,10 +90,20 @@ class InferenceSystem {
     const TexelLayout& layout() const { return blocks_.at(0).m->layout; }
 
   private:
+    // H's strictly lower and upper triangles, per row only the entries on the row's own
+    // face: symmetric Gauss–Seidel's L and U, block by block (inference.cpp).
+    struct Triangle {
+        std::vector<int> outer, inner;
+        std::vector<double> values;
+    };
     std::vector<WeightedMatrix> blocks_;
     InferenceOptions o_;
     std::vector<Eigen::SparseMatrix<double>> AtC2_;  // A_kᵀ C_k² per block
     Eigen::SparseMatrix<double> H_;
+    // The preconditioner's blocks: one per face, each the face's texels at every level, one
+    // range [begin, end) of texels per level, in increasing texel order.
+    std::vector<std::vector<std::pair<int64_t, int64_t>>> faces_;
+    Triangle lower_, upper_;
 };
 
 // Convenience: builds the system and solves one channel.

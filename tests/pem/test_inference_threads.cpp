@@ -8,6 +8,7 @@
 #include <random>
 
 #include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
 #include <tbb/task_arena.h>
 
 #include "inference.h"
@@ -70,32 +71,42 @@ TEST(InferenceThreads, ASolveIsTheSameInEveryBitOnOneTwoAndThreeThreads) {
     }
 }
 
-// The reference beside the fast path: Eigen's own ConjugateGradient (its Jacobi
-// preconditioner, one thread) on the same normal equations. The solver's sums run in another
-// (fixed) order than Eigen's, so the two agree to rounding, not to the bit: the same number
-// of steps and every texel within 1e-9 (an 8-bit texel is 1/255 wide). Each channel solved
-// alone is the bits of the channels solved together.
-TEST(InferenceThreads, ChannelsSolvedTogetherAgreeWithEigensConjugateGradient) {
+// The oracle: the normal equations solved exactly (Eigen's sparse Cholesky, SimplicialLDLT).
+// At a tight tolerance our solver (symmetric Gauss–Seidel preconditioner) must reach that
+// solution; at the default tolerance it must stop in at most 60 % of the steps of Eigen's
+// ConjugateGradient with the Jacobi preconditioner ours replaced, its residual checked from
+// outside. (At the default tolerance neither is near the exact solution in the directions the
+// data barely sees: a texel against its MIPMAP parent. Those are what the tight run checks.)
+// Each channel solved alone, and the plain-loop kernel, are the bits of the channels solved
+// together.
+TEST(InferenceThreads, ChannelsSolvedTogetherReachTheExactSolutionInFewerStepsThanJacobi) {
     const RenderingMatrix m = randomCubeMatrix(20000, 6);
     std::mt19937 rng(10);
-    std::vector<std::vector<Eigen::VectorXd>> channels(5);  // more than one sweep's four
+    std::vector<std::vector<Eigen::VectorXd>> channels(5);  // more than one group's four
     for (auto& c : channels) {
         Eigen::VectorXd b(m.A.rows());
-        // 0.2..0.8: the solution stays in [0, 1], so no texel is pinned and the solve is
-        // conjugate gradient alone.
-        for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = 0.2 + 0.6 * (rng() % 256) / 255.0;
+        // 0.48..0.52: the exact solution stays in [0, 1] (asserted below; at 0.45..0.55 it does
+        // not), so the final clamp changes nothing and no texel is pinned.
+        for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = 0.48 + 0.04 * (rng() % 256) / 255.0;
         c.push_back(b);
     }
     InferenceOptions o;
     o.maxIterations = 400;
     o.boundRounds = 0;
-    const InferenceSystem system(m, o);
+    InferenceOptions tight = o;
+    tight.tolerance = 1e-11;
+    tight.maxIterations = 4000;
+    const InferenceSystem system(m, o), tightSystem(m, tight);
     std::vector<InferenceStats> st;
     const std::vector<Eigen::VectorXd> together = onThreads(3, [&] { return system.solveChannels(channels, &st); });
+    const std::vector<Eigen::VectorXd> converged = onThreads(3, [&] { return tightSystem.solveChannels(channels); });
     ASSERT_EQ(together.size(), channels.size());
     InferenceOptions scalar = o;
     scalar.scalarProducts = true;
     const std::vector<Eigen::VectorXd> loop = InferenceSystem(m, scalar).solveChannels(channels);
+    const Eigen::SparseMatrix<double>& H = system.normalMatrix();
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> exact(H);
+    ASSERT_EQ(exact.info(), Eigen::Success) << "the direct factorisation failed: no oracle";
     for (size_t c = 0; c < channels.size(); ++c) {
         SCOPED_TRACE("channel " + std::to_string(c));
         const Eigen::VectorXd& b = channels[c][0];
@@ -103,19 +114,28 @@ TEST(InferenceThreads, ChannelsSolvedTogetherAgreeWithEigensConjugateGradient) {
         const double mean = b.sum() / double(b.size());
         Eigen::VectorXd rhs = m.A.transpose() * b;
         rhs.array() += o.prior * mean;
+        const Eigen::VectorXd xStar = exact.solve(rhs);
+        ASSERT_LT((H * xStar - rhs).norm(), 1e-9 * rhs.norm()) << "the direct solve is no oracle";
+        ASSERT_GT(xStar.minCoeff(), 0.0) << "the exact solution leaves [0, 1]: the clamp would differ";
+        ASSERT_LT(xStar.maxCoeff(), 1.0) << "the exact solution leaves [0, 1]: the clamp would differ";
+        EXPECT_LT((converged[c] - xStar).cwiseAbs().maxCoeff(), 1e-6) << "did not reach the exact solution";
+
         Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
         cg.setMaxIterations(o.maxIterations);
         cg.setTolerance(o.tolerance);
-        cg.compute(system.normalMatrix());
-        const Eigen::VectorXd eigen =
-            cg.solveWithGuess(rhs, Eigen::VectorXd::Constant(rhs.size(), mean))
-                .cwiseMax(0.0)
-                .cwiseMin(1.0);
-        ASSERT_EQ(cg.info(), Eigen::Success) << "Eigen's solve did not converge: no oracle";
-        EXPECT_GT(st[c].iterations, 10);
-        EXPECT_LE(std::abs(st[c].iterations - int(cg.iterations())), 1)
-            << "ours " << st[c].iterations << " steps, Eigen's " << cg.iterations();
-        EXPECT_LE((together[c] - eigen).cwiseAbs().maxCoeff(), 1e-9) << "differs from Eigen's ConjugateGradient";
+        cg.compute(H);
+        const Eigen::VectorXd jacobi = cg.solveWithGuess(rhs, Eigen::VectorXd::Constant(rhs.size(), mean));
+        ASSERT_EQ(cg.info(), Eigen::Success) << "Eigen's solve did not converge: no comparison";
+        // The stopping rule, checked from outside: ‖H x − rhs‖ below the tolerance.
+        EXPECT_LE((H * together[c] - rhs).norm(), o.tolerance * rhs.norm());
+        EXPECT_GT(st[c].iterations, 3);
+        EXPECT_LE(10 * st[c].iterations, 6 * int(cg.iterations()))  // measured: 18 against 39
+            << "ours " << st[c].iterations << " steps, Eigen's Jacobi " << cg.iterations();
+        // Conjugate gradient minimises the error's energy norm ‖x − x*‖²_H over its steps;
+        // stopped by the same rule, ours must end about as close to x* in it as Jacobi's
+        // (measured: 0.79-1.05 times Jacobi's on these five channels; 1.5× allowed).
+        auto energy = [&](const Eigen::VectorXd& x) { return (x - xStar).dot(H * (x - xStar)); };
+        EXPECT_LE(energy(together[c]), 1.5 * energy(jacobi)) << "ends further from x* than Jacobi's";
         const Eigen::VectorXd alone = onThreads(1, [&] { return system.solve(channels[c]); });
         EXPECT_EQ(std::memcmp(together[c].data(), alone.data(), size_t(alone.size()) * sizeof(double)), 0)
             << "differs from the channel solved alone";
