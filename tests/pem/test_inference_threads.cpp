@@ -71,6 +71,27 @@ TEST(InferenceThreads, ASolveIsTheSameInEveryBitOnOneTwoAndThreeThreads) {
     }
 }
 
+// The oracle: the exact solution x* of the normal equations for one channel b, from a sparse
+// Cholesky factorisation of H, with inference.h's right-hand side rhs = Aᵀb + μ·mean(b).
+// `solved`: H x* = rhs to 1e-9; `inRange`: x* inside [0, 1], so the solver's final clamp
+// changes nothing and the two can be compared texel for texel.
+struct Exact {
+    Eigen::VectorXd rhs, x;
+    bool solved = false, inRange = false;
+};
+Exact exactSolution(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& factor,
+                    const Eigen::SparseMatrix<double>& H, const RenderingMatrix& m,
+                    const Eigen::VectorXd& b, const InferenceOptions& o) {
+    Exact e;
+    const double mean = b.sum() / double(b.size());
+    e.rhs = m.A.transpose() * b;
+    e.rhs.array() += o.prior * mean;
+    e.x = factor.solve(e.rhs);
+    e.solved = (H * e.x - e.rhs).norm() < 1e-9 * e.rhs.norm();
+    e.inRange = e.x.minCoeff() > 0.0 && e.x.maxCoeff() < 1.0;
+    return e;
+}
+
 // The oracle: the normal equations solved exactly (Eigen's sparse Cholesky, SimplicialLDLT).
 // At a tight tolerance our solver (symmetric Gauss–Seidel preconditioner) must reach that
 // solution; at the default tolerance it must stop in at most 60 % of the steps of Eigen's
@@ -109,15 +130,12 @@ TEST(InferenceThreads, ChannelsSolvedTogetherReachTheExactSolutionInFewerStepsTh
     ASSERT_EQ(exact.info(), Eigen::Success) << "the direct factorisation failed: no oracle";
     for (size_t c = 0; c < channels.size(); ++c) {
         SCOPED_TRACE("channel " + std::to_string(c));
-        const Eigen::VectorXd& b = channels[c][0];
-        // rhs = Aᵀb + μ·mean(b), the guess mean(b): inference.h's normal equations.
-        const double mean = b.sum() / double(b.size());
-        Eigen::VectorXd rhs = m.A.transpose() * b;
-        rhs.array() += o.prior * mean;
-        const Eigen::VectorXd xStar = exact.solve(rhs);
-        ASSERT_LT((H * xStar - rhs).norm(), 1e-9 * rhs.norm()) << "the direct solve is no oracle";
-        ASSERT_GT(xStar.minCoeff(), 0.0) << "the exact solution leaves [0, 1]: the clamp would differ";
-        ASSERT_LT(xStar.maxCoeff(), 1.0) << "the exact solution leaves [0, 1]: the clamp would differ";
+        const Exact e = exactSolution(exact, H, m, channels[c][0], o);
+        ASSERT_TRUE(e.solved) << "the direct solve is no oracle";
+        ASSERT_TRUE(e.inRange) << "the exact solution leaves [0, 1]: the clamp would differ";
+        const Eigen::VectorXd& xStar = e.x;
+        const Eigen::VectorXd& rhs = e.rhs;
+        const double mean = channels[c][0].sum() / double(channels[c][0].size());  // the guess
         EXPECT_LT((converged[c] - xStar).cwiseAbs().maxCoeff(), 1e-6) << "did not reach the exact solution";
 
         Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
@@ -169,14 +187,10 @@ TEST(InferenceThreads, A2DTextureReachesTheExactSolution) {
     ASSERT_EQ(exact.info(), Eigen::Success) << "the direct factorisation failed: no oracle";
     for (size_t c = 0; c < channels.size(); ++c) {
         SCOPED_TRACE("channel " + std::to_string(c));
-        const Eigen::VectorXd& b = channels[c][0];
-        const double mean = b.sum() / double(b.size());
-        Eigen::VectorXd rhs = m.A.transpose() * b;
-        rhs.array() += o.prior * mean;
-        const Eigen::VectorXd xStar = exact.solve(rhs);
-        ASSERT_GT(xStar.minCoeff(), 0.0) << "the exact solution leaves [0, 1]: the clamp would differ";
-        ASSERT_LT(xStar.maxCoeff(), 1.0) << "the exact solution leaves [0, 1]: the clamp would differ";
-        EXPECT_LT((packed[c] - xStar).cwiseAbs().maxCoeff(), 1e-6) << "did not reach the exact solution";
+        const Exact e = exactSolution(exact, system.normalMatrix(), m, channels[c][0], o);
+        ASSERT_TRUE(e.solved) << "the direct solve is no oracle";
+        ASSERT_TRUE(e.inRange) << "the exact solution leaves [0, 1]: the clamp would differ";
+        EXPECT_LT((packed[c] - e.x).cwiseAbs().maxCoeff(), 1e-6) << "did not reach the exact solution";
         const Eigen::VectorXd alone = system.solve(channels[c]);
         const size_t bytes = size_t(alone.size()) * sizeof(double);
         EXPECT_EQ(std::memcmp(packed[c].data(), alone.data(), bytes), 0) << "differs from the channel solved alone";
