@@ -97,7 +97,6 @@ struct ChannelSolve {
     InferenceStats stats;
     Packed* packed = nullptr;                         // its group's
     int slot = 0;
-    const Eigen::VectorXd& operand() const { return need == Need::Residual ? x : p; }
     double& at(std::vector<double>& v, int64_t i) const { return v[size_t(packed->stride * i + slot)]; }
 };
 
