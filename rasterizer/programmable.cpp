@@ -25,6 +25,7 @@
 #include "core/tsan_annotations.h"
 #include "texunit/format.h"
 #include "texunit/program_fetch.h"
+#include "texunit/program_fetch_quad.h"
 
 namespace rg::raster {
 
@@ -180,6 +181,12 @@ Vec4x4 QuadContext::sample(int u, int k, Mask4 m) {
     const auto& q = quad_->v[size_t(k)];
     const int32_t lambda = tex::programLambdaQuad(*b.texture, b.sampler, q);  // one per quad
     std::array<glm::vec4, 4> t{};
+    if (setup_->path == Path::Fast && detail::programAvx2() && tex::quadFetch8Applies(*b.texture, b.sampler)) {
+        // An 8-bit 2D texture, LINEAR (the impostors' board albedo, mipmapped): the quad's
+        // four fetches side by side, the lanes' bits as below.
+        tex::programFetchQuad8(*b.texture, b.sampler, q, lambda, lanes, t, fetches_);
+        return Vec4x4::fromLanes(t);
+    }
     for (int i = 0; i < 4; ++i)
         if ((lanes >> i) & 1u)
             t[size_t(i)] = tex::programFetch(*b.texture, b.sampler, q[size_t(i)], lambda, setup_->path,
