@@ -1053,6 +1053,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     // and the search from outside in the pawn's map against Embree on the pawn's mesh,
     // hits and misses over ε (Figure 4).
     nlohmann::json fig3, fig4;
+    double sphereOutsideAccuracy = -1.0;
     {
         tex::SamplerState point;
         point.magFilter = point.minFilter = tex::FilterMode::Nearest;
@@ -1113,6 +1114,24 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
         const std::vector<float> epsilons = {0.005f, 0.01f, 0.02f, 0.03f, 0.05f, 0.1f};
         std::vector<int64_t> tp(epsilons.size()), fp(epsilons.size()), fn(epsilons.size()), tn(epsilons.size());
         std::vector<double> hitErr(epsilons.size());
+        // Where the misses come from, at the frame's ε: each of Embree's hits is sorted by
+        // whether the search's undershoot seed (the ray's point nearest the map's centre) lies
+        // inside the object, and by whether the map holds any of the ray's crossings (one
+        // seen first from the centre: a concave part hidden from it is not in the map); and
+        // the same rays searched with four times the iterations.
+        struct MissClass {
+            int64_t hits = 0, missed = 0;
+        };
+        MissClass seedInside, seedOutside, inMap, notInMap;
+        int64_t missedLongSearch = 0;
+        const float tolerance = 1e-3f * halfDiagonal;
+        auto seenFromCentre = [&](const glm::vec3& p) {
+            ray::Ray fc;
+            fc.origin = c;
+            fc.dir = glm::normalize(p - c);
+            const ray::Hit hc = accel.intersect(fc);
+            return hc.valid() && std::fabs(hc.t - glm::length(p - c)) < tolerance;
+        };
         for (int i = 0; i < S.outsideRays; ++i) {
             const glm::vec3 o = c + glm::normalize(glm::vec3(g(rng), g(rng), g(rng))) * (2.5f * halfDiagonal);
             const glm::vec3 aim = c + glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 1.3f * (b.hi - b.lo);
@@ -1121,6 +1140,30 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
             ray.origin = o;
             ray.dir = dir;
             const ray::Hit truth = accel.intersect(ray);
+            if (truth.valid()) {
+                const Vec3L<float> yl(o.x - c.x, o.y - c.y, o.z - c.z), Rl(dir.x, dir.y, dir.z);
+                const float eps = base.epsilon * halfDiagonal;
+                const bool found = outsideSearch(yl, Rl, lo, hi, eps, S.iterations, true, fetch).valid;
+                if (!outsideSearch(yl, Rl, lo, hi, eps, 4 * S.iterations, true, fetch).valid) ++missedLongSearch;
+                const glm::vec3 nearest = o + dir * -glm::dot(o - c, dir);
+                ray::Ray fc;
+                fc.origin = c;
+                fc.dir = glm::normalize(nearest - c);
+                const ray::Hit hc = accel.intersect(fc);
+                MissClass& bySeed = hc.valid() && hc.t > glm::length(nearest - c) ? seedInside : seedOutside;
+                bool held = false;
+                ray::Ray along = ray;
+                for (int k = 0; k < 16 && !held; ++k) {  // every crossing of the ray, nearest first
+                    const ray::Hit h = accel.intersect(along);
+                    if (!h.valid()) break;
+                    held = seenFromCentre(along.origin + along.dir * h.t);
+                    along.tnear = h.t + tolerance;
+                }
+                MissClass& byMap = held ? inMap : notInMap;
+                ++bySeed.hits;
+                ++byMap.hits;
+                if (!found) ++bySeed.missed, ++byMap.missed;
+            }
             for (size_t e = 0; e < epsilons.size(); ++e) {
                 const OutsideHit<float, bool> h =
                     outsideSearch(Vec3L<float>(o.x - c.x, o.y - c.y, o.z - c.z), Vec3L<float>(dir.x, dir.y, dir.z), lo, hi,
@@ -1146,7 +1189,50 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
                             {"true_misses", tn[e]},
                             {"accuracy", double(tp[e] + tn[e]) / double(S.outsideRays)},
                             {"mean_hit_error", tp[e] ? hitErr[e] / double(tp[e]) : 0.0}});
-        fig4 = {{"object", mesh.name}, {"rays", S.outsideRays}, {"by_epsilon", rows}};
+        // The same rays' recipe on the glass sphere's map and mesh (convex, so its map holds
+        // every crossing): the search's agreement where the map is not the limit.
+        if (sphereObject >= 0 && sphereIt != scene.glass.end()) {
+            const int smap = renderer.refractorOf(int(sphereIt - scene.glass.begin()));
+            const ray::Mesh& smesh = scene.scene.meshes[renderer.refractorMesh(smap)];
+            ray::Scene sone;
+            sone.name = "sphere";
+            sone.addObject("sphere", sone.addMesh(smesh), sone.addMaterial(glassM));
+            ray::Accel saccel(sone);
+            const ray::Bounds sb = ray::computeBounds(smesh);
+            const glm::vec3 sc = sb.center();
+            const float shalf = 0.5f * glm::length(sb.hi - sb.lo);
+            const float slo[3] = {sb.lo.x - sc.x, sb.lo.y - sc.y, sb.lo.z - sc.z};
+            const float shi[3] = {sb.hi.x - sc.x, sb.hi.y - sc.y, sb.hi.z - sc.z};
+            const auto sfetch = fetcher(smap);
+            int64_t agree = 0;
+            for (int i = 0; i < S.outsideRays; ++i) {
+                const glm::vec3 o = sc + glm::normalize(glm::vec3(g(rng), g(rng), g(rng))) * (2.5f * shalf);
+                const glm::vec3 aim = sc + glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f) * 1.3f * (sb.hi - sb.lo);
+                ray::Ray sr;
+                sr.origin = o;
+                sr.dir = glm::normalize(aim - o);
+                const bool hit = saccel.intersect(sr).valid();
+                const bool found = outsideSearch(Vec3L<float>(o.x - sc.x, o.y - sc.y, o.z - sc.z),
+                                                 Vec3L<float>(sr.dir.x, sr.dir.y, sr.dir.z), slo, shi,
+                                                 base.epsilon * shalf, S.iterations, true, sfetch)
+                                       .valid;
+                agree += hit == found;
+            }
+            sphereOutsideAccuracy = double(agree) / double(S.outsideRays);
+        }
+        auto cls = [](const MissClass& m) { return nlohmann::json{{"hits", m.hits}, {"missed", m.missed}}; };
+        fig4 = {{"object", mesh.name},
+                {"rays", S.outsideRays},
+                {"by_epsilon", rows},
+                {"missed_hits_at_epsilon",
+                 {{"epsilon_half_diagonal", base.epsilon},
+                  {"seed_inside", cls(seedInside)},
+                  {"seed_outside", cls(seedOutside)},
+                  {"a_crossing_in_the_map", cls(inMap)},
+                  {"no_crossing_in_the_map", cls(notInMap)},
+                  {"iterations", S.iterations},
+                  {"missed_with_4x_iterations", missedLongSearch}}}};
+        if (sphereOutsideAccuracy >= 0) fig4["sphere_accuracy_at_epsilon"] = sphereOutsideAccuracy;
     }
     r["figure3_refractor_exit"] = fig3;
     r["figure4_outside_search"] = fig4;
@@ -1260,6 +1346,14 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
         c.test = "hit/miss agreement with Embree on the " + fig4["object"].get<std::string>() + " ≥ 95 % at ε = " +
                  num(base.epsilon * 100.0, 0) + " % of its half diagonal";
         c.measured = {{"accuracy", acc}};
+        // Context, not the test: the convex sphere's agreement, and the pawn's missed hits
+        // whose crossing the map holds (report.md, "Where the missed hits come from").
+        if (fig4.contains("sphere_accuracy_at_epsilon")) c.measured["sphere_accuracy"] = fig4["sphere_accuracy_at_epsilon"];
+        {
+            const auto& m = fig4["missed_hits_at_epsilon"]["a_crossing_in_the_map"];
+            const int64_t h = m["hits"].get<int64_t>();
+            if (h) c.measured["missed_of_hits_the_map_holds"] = double(m["missed"].get<int64_t>()) / double(h);
+        }
         c.holds = acc >= 0.95;
         rep.claim(c);
     }
@@ -1531,6 +1625,29 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
                               std::to_string(row["false_hits"].get<int64_t>()), std::to_string(row["missed_hits"].get<int64_t>()),
                               num(row["mean_hit_error"].get<double>(), 4)});
         rep.table(t);
+        const auto& mh = fig4["missed_hits_at_epsilon"];
+        auto share = [&](const char* k) {
+            const auto& m = mh[k];
+            const int64_t h = m["hits"].get<int64_t>(), n = m["missed"].get<int64_t>();
+            return std::to_string(n) + " of " + std::to_string(h) + " (" + num(h ? 100.0 * double(n) / double(h) : 0.0, 1) + " %)";
+        };
+        md << "Where the missed hits come from at ε = " << num(100.0 * mh["epsilon_half_diagonal"].get<double>(), 0)
+           << " % (Embree's hits, sorted twice). By the search's undershoot seed, the ray's point nearest the map's "
+              "centre: inside the object " << share("seed_inside") << " missed, outside it " << share("seed_outside")
+           << ". By what the map holds: rays with a crossing seen first from the centre " << share("a_crossing_in_the_map")
+           << ", rays whose every crossing a nearer part hides from the centre " << share("no_crossing_in_the_map")
+           << ". With " << 4 * mh["iterations"].get<int>() << " iterations instead of " << mh["iterations"].get<int>()
+           << ", " << mh["missed_with_4x_iterations"].get<int64_t>()
+           << " hits are missed. So most misses are of rays the map does hold, and more iterations do not recover "
+              "them: the search settles, but on a point more than ε off the ray; a seed outside the piece (rays through "
+              "the head or the base, far from the centre) doubles the rate. (Not measured here: where on the map those "
+              "searches settle. Our guess is a texel where the stored distance jumps, a silhouette of the piece seen "
+              "from its centre.)";
+        if (fig4.contains("sphere_accuracy_at_epsilon"))
+            md << " The glass sphere's map, convex and so holding every crossing, searched from outside with rays aimed "
+                  "the same way at its box, agrees with Embree on "
+               << num(100.0 * fig4["sphere_accuracy_at_epsilon"].get<double>(), 1) << " % of them.";
+        md << "\n\n";
     }
     rep.figure("refractor_maps.png", "Refractor distance maps (002 §3, Figure 3): the normals of each mesh seen from its "
                                      "centre, as a cube cross (+Y top, −X +Z +X −Z, −Y bottom).");
