@@ -30,7 +30,7 @@ void shoot(const Scene& sc, const CausticTraceOptions& o, const PointLight& ligh
            std::vector<PhotonHit>& out, int64_t& shot, Losses& lost) {
     const Object& ob = sc.objects[object];
     const Material& mat = sc.materials[ob.material];
-    if (mat.type != MaterialType::Glass) return;
+    if (mat.type != MaterialType::Glass && mat.type != MaterialType::Mirror) return;
     // The object alone (its own Embree scene): the photons pass through every other object,
     // the board included (a base standing on the board shares its plane, and a ray leaving
     // through it would otherwise meet the board first).
@@ -58,6 +58,26 @@ void shoot(const Scene& sc, const CausticTraceOptions& o, const PointLight& ligh
     const double cell = 2.0 * double(tanMax) / n, a = cell * cell;
     const float f0 = FresnelNormalIncidence(mat.ior);
     const CausticBoard& b = o.board;
+    // A photon leaving the object at p along d with the power I·w·factor (per channel)
+    // meets the board plane, or is counted lost.
+    auto land = [&](const glm::vec3& p, const glm::vec3& d, double w, const glm::dvec3& factor) {
+        if (!(d.y < 0.0f)) {
+            ++lost.upward;
+            return;
+        }
+        // A photon leaving through a base that stands on the board lands where it leaves.
+        const double tb = std::max((double(b.y) - double(p.y)) / double(d.y), 0.0);
+        const double X = double(p.x) + double(d.x) * tb, Z = double(p.z) + double(d.z) * tb;
+        if (X < b.lo.x || X > b.hi.x || Z < b.lo.y || Z > b.hi.y) {
+            ++lost.offBoard;
+            return;
+        }
+        PhotonHit ph;
+        ph.u = (X * b.uv[0] + Z * b.uv[1]) + b.uv[2];
+        ph.v = (X * b.uv[3] + Z * b.uv[4]) + b.uv[5];
+        for (int c = 0; c < 3; ++c) ph.power[c] = double(light.intensity[c]) * w * factor[c];
+        out.push_back(ph);
+    };
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             ++shot;
@@ -72,8 +92,13 @@ void shoot(const Scene& sc, const CausticTraceOptions& o, const PointLight& ligh
             const double cosT = double(glm::dot(r.dir, axis));
             const double dist = double(h.t);
             const double area = dist * dist * cosT * cosT * cosT * a;
-            // Entry: Schlick's transmittance, refraction 1 → n at the normal facing the ray.
             glm::vec3 nIn = glm::dot(r.dir, s.ns) < 0.0f ? s.ns : -s.ns;
+            if (mat.type == MaterialType::Mirror) {
+                // A mirror: one reflection at the hit, the mirror's reflectance the photon's power.
+                land(s.p, reflectDir(r.dir, nIn), area, glm::dvec3(mirrorReflectance(mat, -glm::dot(r.dir, nIn))));
+                continue;
+            }
+            // Entry: Schlick's transmittance, refraction 1 → n at the normal facing the ray.
             const double F = double(FresnelSchlick(-glm::dot(r.dir, nIn), f0));
             glm::vec3 d;
             if (!refractDir(r.dir, nIn, 1.0f / mat.ior, &d)) continue;
@@ -112,24 +137,9 @@ void shoot(const Scene& sc, const CausticTraceOptions& o, const PointLight& ligh
                 if (!leaked) ++lost.interfaces;
                 continue;
             }
-            if (!(d.y < 0.0f)) {
-                ++lost.upward;
-                continue;
-            }
-            // A photon leaving through a base that stands on the board lands where it leaves.
-            const double tb = std::max((double(b.y) - double(p.y)) / double(d.y), 0.0);
-            const double X = double(p.x) + double(d.x) * tb, Z = double(p.z) + double(d.z) * tb;
-            if (X < b.lo.x || X > b.hi.x || Z < b.lo.y || Z > b.hi.y) {
-                ++lost.offBoard;
-                continue;
-            }
-            PhotonHit ph;
-            ph.u = (X * b.uv[0] + Z * b.uv[1]) + b.uv[2];
-            ph.v = (X * b.uv[3] + Z * b.uv[4]) + b.uv[5];
-            const double w = (1.0 - F) * area;
-            for (int c = 0; c < 3; ++c)
-                ph.power[c] = double(light.intensity[c]) * w * std::pow(double(mat.transmittance[c]), length);
-            out.push_back(ph);
+            glm::dvec3 absorbed;
+            for (int c = 0; c < 3; ++c) absorbed[c] = std::pow(double(mat.transmittance[c]), length);
+            land(p, d, (1.0 - F) * area, absorbed);
         }
 }
 

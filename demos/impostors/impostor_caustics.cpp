@@ -236,7 +236,6 @@ void ImpostorRenderer::buildCaustics(const ImpostorSettings& s, bool staticMap, 
         for (size_t g = 0; g < glass_.size(); ++g) {
             const bool isMover = int(g) == moverGlass_;
             if (isMover ? !mover : !statics) continue;
-            if (frames_[g].mirror) continue;  // refraction only: a mirror's caustics are left out
             for (int i = 0; i < nLights; ++i) piece(g, i, target);
         }
     };

@@ -1,9 +1,10 @@
 // 002 §7's caustics, after Szirmay-Kalos et al. 2005 ([5]), on the emulated geforce8800:
 //
-//   photon map   per glass piece and light: the piece rendered from the light (a camera at
-//                the light aimed at the piece's bounding box), N × N (32² by default: our
-//                choice, the paper gives none). Rasterisation finds the first hit; the
-//                program refracts in (Schlick's transmittance 1 − F and the absorption
+//   photon map   per glass or mirror piece and light: the piece rendered from the light (a
+//                camera at the light aimed at the piece's bounding box), N × N (32² by
+//                default: our choice, the paper gives none). Rasterisation finds the first
+//                hit; a mirror reflects there (its reflectance is the photon's power); glass
+//                refracts in (Schlick's transmittance 1 − F and the absorption
 //                inside are the photon's power), finds the exit in the piece's refractor
 //                distance map (the same search as the frame, tracePaths), refracts out and
 //                meets the board plane only ("we neglect the fact that the ray might interact
@@ -89,21 +90,44 @@ struct PhotonFP {
         const V3 V = normalize3(toP);
         const F cosT = dot3(V, splat3<F>(axis));
         const F area = r2 * (cosT * cosT * cosT) * F(texelArea);
-        // Through the piece: 002 §7 "multiple refraction is calculated by searching in the
-        // refractor map" — the frame's own tracing (impostor_shading.h).
-        const GlassPaths<F, M> g = tracePaths(self, iterations, P, V3(nrm.x, nrm.y, nrm.z), V, live, refr);
+        // The photon leaves the piece from exitOrigin along exitDir with the power
+        // I·carried·weight (per channel; the glass's product in its earlier order, so its
+        // bytes are unchanged).
+        V3 exitOrigin, exitDir, carried;
+        F weight = area;
+        if (self.mirror) {
+            // A mirror (002 §7: "refracting and reflecting materials can focus the light"):
+            // the photon leaves the rasterised hit along the mirror direction with the
+            // mirror's reflectance, constant or Schlick's with it as F0 — as the frame
+            // shades the mirror (shadeOwn).
+            const V3 n = facing(normalize3(V3(nrm.x, nrm.y, nrm.z)), V);
+            exitOrigin = P;
+            exitDir = reflect3(V, n);
+            const F cosI = -dot3(V, n);
+            carried = self.mirrorSchlick ? V3(fresnelSchlick(cosI, self.reflectance[0]),
+                                              fresnelSchlick(cosI, self.reflectance[1]),
+                                              fresnelSchlick(cosI, self.reflectance[2]))
+                                         : splat3<F>(self.reflectance);
+        } else {
+            // Through the piece: 002 §7 "multiple refraction is calculated by searching in
+            // the refractor map" — the frame's own tracing (impostor_shading.h); Schlick's
+            // transmittance 1 − F at the entry and the absorption inside.
+            const GlassPaths<F, M> g = tracePaths(self, iterations, P, V3(nrm.x, nrm.y, nrm.z), V, live, refr);
+            exitOrigin = g.exitOrigin;
+            exitDir = g.exitDir;
+            carried = g.transmit;
+            weight = (F(1.0f) - g.fresnel) * area;
+        }
         // The photon hit: the exit ray meets the board plane y = boardY (other pieces
         // neglected), within the board. A photon leaving through a base that stands on the
         // board (its exit at or below the plane) lands where it leaves: t = max(t, 0).
-        const F t = max((F(board.boardY) - g.exitOrigin.y) / g.exitDir.y, F(0.0f));
-        const V3 X = g.exitOrigin + g.exitDir * t;
+        const F t = max((F(board.boardY) - exitOrigin.y) / exitDir.y, F(0.0f));
+        const V3 X = exitOrigin + exitDir * t;
         const F u = (X.x * F(board.uv[0]) + X.z * F(board.uv[1])) + F(board.uv[2]);
         const F v = (X.x * F(board.uv[3]) + X.z * F(board.uv[4])) + F(board.uv[5]);
-        const M hit = (g.exitDir.y < F(0.0f)) & (X.x >= F(board.lo[0])) & (X.x <= F(board.hi[0])) &
+        const M hit = (exitDir.y < F(0.0f)) & (X.x >= F(board.lo[0])) & (X.x <= F(board.hi[0])) &
                       (X.z >= F(board.lo[1])) & (X.z <= F(board.hi[1]));
-        const F w = (F(1.0f) - g.fresnel) * area;
-        const V3 power = V3(g.transmit.x * F(intensity[0]), g.transmit.y * F(intensity[1]),
-                            g.transmit.z * F(intensity[2])) * w;
+        const V3 power = V3(carried.x * F(intensity[0]), carried.y * F(intensity[1]), carried.z * F(intensity[2])) * weight;
         const F zero(0.0f);
         q.output(0, V4(select(hit, u, zero), select(hit, v, zero), select(hit, F(1.0f), zero), zero));
         q.output(1, V4(select(hit, power.x, zero), select(hit, power.y, zero), select(hit, power.z, zero), zero));

@@ -185,9 +185,9 @@ CausticsComparison compareCaustics(const ImpostorScene& scene, const ImpostorSet
             for (int i = 0; i < n * n; ++i) alphaSum += double(t->dataF(0, 0)[i].w);
     const double sg = double(s.causticSigma), rr = 3.0 * sg;
     const double ourHits = alphaSum / (2.0 * 3.14159265358979323846 * sg * sg * (1.0 - std::exp(-rr * rr / (2.0 * sg * sg))));
-    int64_t ourPhotons = 0;  // photon-map texels drawn: per light and refracting object
+    int64_t ourPhotons = 0;  // photon-map texels drawn: per light and glass or mirror object
     for (uint32_t obj : scene.glass)
-        if (placed.materials[placed.objects[obj].material].type == ray::MaterialType::Glass)
+        if (placed.materials[placed.objects[obj].material].type != ray::MaterialType::Diffuse)
             ourPhotons += int64_t(std::min<size_t>(placed.lights.size(), DiffuseFP::kMaxLights)) * s.photonMapSize *
                           s.photonMapSize;
     j["settings"] = {{"photon_map_size", s.photonMapSize},

@@ -47,10 +47,11 @@ TEST(ImpostorClaims, TheReproductionRunsSmallAndItsClaimsAreReported) {
     const nlohmann::json r = runImpostors(s, o);
     for (const char* f : {"report.md", "index.html", "results.json", "figure10_whole_scene.png",
                           "figure9_comparison.png", "figure5_searches.png", "figure2_error_by_iterations.svg",
-                          "refractor_maps.png", "environment_impostor.png", "caustics.png"})
+                          "refractor_maps.png", "environment_impostor.png", "caustics.png", "caustics_mirror.png"})
         EXPECT_TRUE(fs::exists(o.outDir / f)) << f;
     for (const char* k : {"timing", "figure2", "figure9", "depth_sweep", "iteration_sweep", "glass_pixels_sweep",
-                          "figure3_refractor_exit", "figure4_outside_search", "exit_total_reflection", "caustics", "claims"})
+                          "figure3_refractor_exit", "figure4_outside_search", "exit_total_reflection", "caustics",
+                          "caustics_mirror", "claims"})
         EXPECT_TRUE(r.contains(k)) << k;
     // §7's caustics: both passes timed, the splats placed by vertex texture fetch (two texels
     // per corner, six corners per photon, 32² photons per piece and light).
@@ -85,8 +86,11 @@ TEST(ImpostorClaims, TheReproductionRunsSmallAndItsClaimsAreReported) {
                            "glass_pixels_cost_linearly", "iterations_reduce_error", "iterations_diminishing_returns",
                            "depth_adds_bounces", "refractor_map_finds_the_exit",
                            "outside_search_tells_hits_from_misses", "separation_as_good_as_classical",
-                           "caustics_where_photon_tracing_puts_them"})
+                           "caustics_where_photon_tracing_puts_them", "mirror_caustics_where_photon_tracing_puts_them"})
         EXPECT_TRUE(claims.count(id)) << id;
+    // The mirror pawn's caustic alone: its photons reach the board in both, ours and the reference.
+    EXPECT_GT(r["caustics_mirror"]["reference_board_hits"].get<int64_t>(), 0) << r["caustics_mirror"].dump();
+    EXPECT_GT(r["caustics_mirror"]["ours_board_hits_estimate"].get<double>(), 0.0) << r["caustics_mirror"].dump();
     EXPECT_EQ(r["claims_total"].get<int>(), int(claims.size()));
     EXPECT_TRUE(claims["refractor_map_finds_the_exit"]) << r["figure3_refractor_exit"].dump();
     EXPECT_TRUE(claims["iterations_reduce_error"]) << r["figure2"].dump();
@@ -110,7 +114,7 @@ TEST(ImpostorClaims, EveryReportedClaimAtQuickQuality) {
     const nlohmann::json r = runImpostors(s, o);
     ASSERT_TRUE(r.contains("claims"));
     expectEveryClaimReportedWithNumbers(r);
-    EXPECT_EQ(r["claims_total"].get<int>(), 12);
+    EXPECT_EQ(r["claims_total"].get<int>(), 13);
     for (const auto& c : r["claims"]) expectRowInReport(o.outDir / "report.md", r, c["id"].get<std::string>());
 
     // The verdicts against the stated margins, whether or not the claim holds.
@@ -221,10 +225,19 @@ TEST(ImpostorClaims, EveryReportedClaimAtQuickQuality) {
         EXPECT_EQ(c["measured"]["peak_offset_median_texels"].get<double>(), median);
         EXPECT_EQ(c["holds"].get<bool>(), median <= margin) << c.dump(2);
     }
+    {
+        // §7 with a mirror: the same verdict from the mirror pawn's scores.
+        const nlohmann::json c = claimById(r, "mirror_caustics_where_photon_tracing_puts_them");
+        const auto& sc = r["caustics_mirror"]["scores"];
+        const double median = sc["peak_offset_median_texels"].get<double>();
+        const double margin = sc["peak_margin_texels"].get<double>();
+        EXPECT_EQ(margin, std::max(1.0, 2.0 * sc["half_photon_reference_peak_offset_p90_texels"].get<double>()));
+        EXPECT_EQ(c["holds"].get<bool>(), median <= margin) << c.dump(2);
+    }
     // Every claim that holds at quick quality and does not depend on the machine, by id.
     for (const char* id : {"iterations_reduce_error", "iterations_diminishing_returns", "refractor_map_finds_the_exit",
                            "separation_as_good_as_classical", "height_maps_beat_distance_maps_for_double_refraction",
-                           "caustics_where_photon_tracing_puts_them"})
+                           "caustics_where_photon_tracing_puts_them", "mirror_caustics_where_photon_tracing_puts_them"})
         expectHolds(r, id);
     // Not asserted to hold (verdicts checked above, rows in report.md):
     // - depth_adds_bounces: over all glass pixels DEPTH 2 is 0.003 dB closer to the ray tracer

@@ -1,6 +1,7 @@
 // The photon-traced reference for 002 §7's caustics: photons shot from each point light
 // through each glass object's exact geometry (Embree), refracted in and out by Snell's law
-// at the interpolated normals (total internal reflection followed inside), met with the
+// at the interpolated normals (total internal reflection followed inside), or reflected
+// once by each mirror object (its reflectance, constant or Schlick's), met with the
 // board plane, and splatted into a light map over the board's texture space with the
 // Gaussian kernel of the emulated splats (demos/impostors/impostor_caustics.h). Many more
 // photons than the emulated photon maps, the same framing of each object from the light,
@@ -36,7 +37,7 @@ struct CausticTraceOptions {
     float sigmaTexels = 1.5f;     // the splat kernel's σ; radius 3σ, normalised over the disc
     int maxInterfaces = 8;        // refractions and internal reflections followed per photon
     CausticBoard board;
-    std::vector<uint32_t> objects;  // Scene::objects shooting photons (glass; others are skipped)
+    std::vector<uint32_t> objects;  // Scene::objects shooting photons (glass and mirrors; others are skipped)
 };
 
 struct CausticTraceResult {
