@@ -104,6 +104,9 @@ class Demo {
     virtual std::vector<ViewpointSample> viewpointSamples() const = 0;
     // The demo's parameters; the viewer edits `value` in place between frames.
     virtual std::vector<Param>& params() = 0;
+    // Raises rg::Error naming the problem when the params as they stand are a combination
+    // the demo cannot render; the viewer then refuses the edit and restores the old value.
+    virtual void checkParams() const {}
     // What a frame does, pass by pass, in the paper's words (the inspector's legend).
     virtual std::vector<std::string> passDescriptions() const = 0;
     // Renders one frame into `device` (beginFrame … endFrame). Must depend only on the

@@ -101,6 +101,17 @@ ImpostorSettings ImpostorDemo::settings() const {
     return s;
 }
 
+void ImpostorDemo::checkParams() const {
+    ImpostorSettings s = settings();
+    validate(s);
+    if (s.mode == Mode::RefractorMapsOnly) {
+        // Whether the scene has the board mode A walks (ImpostorRenderer's own test, which
+        // raises the error naming it), on an 8² frame.
+        s.width = s.height = 8;
+        renderer_->render(scene_.camera, s);
+    }
+}
+
 viewer::FrameNotes ImpostorDemo::render(raster::Device& device, const ray::Camera& camera) {
     requireProgrammable(device, "programmable shaders, float cube render targets");
     const ImpostorSettings s = settings();

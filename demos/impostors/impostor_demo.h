@@ -28,6 +28,8 @@ class ImpostorDemo final : public viewer::ProgrammableDemo {
     std::vector<viewer::ViewpointSample> viewpointSamples() const override;
     std::vector<std::string> passDescriptions() const override;
     viewer::FrameNotes render(raster::Device& device, const ray::Camera& camera) override;
+    // The settings' limits (validate), and mode A's need of a board, tried on a tiny frame.
+    void checkParams() const override;
 
     ImpostorSettings settings() const;  // the frame's settings from the params
 

@@ -129,6 +129,10 @@ void validate(const ImpostorSettings& s) {
             " (002 §5.1: each iteration adds one bounce; " + std::to_string(kMaxDepth) + " is far past what the images show)");
     if (s.iterations < 0 || s.iterations > kMaxIterations)
         bad("secant iterations " + std::to_string(s.iterations) + " outside 0–" + std::to_string(kMaxIterations));
+    // Mode A has no height-map search: the exit is refused rather than drawn with distance maps.
+    if (s.mode == Mode::RefractorMapsOnly && s.exit == Exit::HeightMap)
+        bad("the refractor-maps-only mode (§4.2, mode A) searches refractor distance maps only; the height-map exit "
+            "(§6) is for the modes with environment impostors (static, classical, separated)");
     const Profile& p = g80();
     if (s.width < 1 || s.height < 1 || s.width > p.maxViewport || s.height > p.maxViewport)
         bad("frame " + std::to_string(s.width) + "×" + std::to_string(s.height) + " outside what geforce8800 renders (1–" +

@@ -170,7 +170,14 @@ void ViewerSession::apply(const Action& a) {
             if (p.kind == Param::Kind::Enum) v = std::clamp(std::round(v), 0.0, double(p.choices.size()) - 1);
             if (p.kind == Param::Kind::Int) v = std::clamp(std::round(v), p.min, p.max);
             if (p.kind == Param::Kind::Float) v = std::clamp(v, p.min, p.max);
+            const double old = p.value;
             p.value = v;
+            try {
+                demo_->checkParams();
+            } catch (...) {
+                p.value = old;
+                throw;
+            }
             break;
         }
         case Action::Kind::Profile: {

@@ -185,6 +185,13 @@ TEST(ImpostorErrors, BadSettingsNameTheValueAndTheLimit) {
     s = {};
     s.moverU = 2.0f;
     EXPECT_NE(message(s).find("mover position"), std::string::npos) << message(s);
+    // Mode A has no height-map search: refused, not drawn with distance maps.
+    s = {};
+    s.mode = Mode::RefractorMapsOnly;
+    s.exit = Exit::HeightMap;
+    EXPECT_NE(message(s).find("mode A"), std::string::npos) << message(s);
+    s.exit = Exit::DistanceMap;
+    EXPECT_EQ(message(s), "");
     // Maps the profile's texture memory cannot hold: the limit named.
     const ImpostorScene scene = smallScene();
     ImpostorRenderer r(scene, 1, Path::Fast);

@@ -414,8 +414,8 @@ TEST(ViewerProgrammable, TheImpostorFrameIsHandedOverAsItIsAndTheMoverMovesLive)
     EXPECT_FLOAT_EQ(imp->settings().moverU, 0.95f);
     s.apply({Action::Kind::Param, 0, 0, 1, "mode"});
     EXPECT_EQ(imp->settings().mode, rg::impostors::Mode::Classical);
-    // §7's caustics switch on live. This scene's one object is a mirror, which refracts no
-    // photons: the board's caustic program adds zero caustic maps, and the frame keeps its bytes.
+    // §7's caustics switch on live. This scene (a mirror sphere) has no board, a diffuse
+    // object under the glass: no photon lands anywhere, and the frame keeps its bytes.
     EXPECT_FALSE(imp->settings().caustics);
     s.render(false);
     const uint64_t noCaustics = s.frameHash();
@@ -423,6 +423,25 @@ TEST(ViewerProgrammable, TheImpostorFrameIsHandedOverAsItIsAndTheMoverMovesLive)
     EXPECT_TRUE(imp->settings().caustics);
     s.render(false);
     EXPECT_EQ(s.frameHash(), noCaustics);
+    // Combinations the demo cannot draw are refused at the edit, naming why, and the old
+    // value stays, so the next frame draws: mode A (refractor maps only) without a board, and
+    // the height-map exit in mode A.
+    auto refused = [&](const char* param, double value, const char* why) {
+        try {
+            s.apply({Action::Kind::Param, 0, 0, value, param});
+            ADD_FAILURE() << param << " = " << value << " was taken";
+        } catch (const rg::Error& e) {
+            EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+        }
+    };
+    refused("mode", 3, "mode A needs a board");
+    EXPECT_EQ(imp->settings().mode, rg::impostors::Mode::Classical);
+    s.apply({Action::Kind::Param, 0, 0, 1, "exit"});
+    EXPECT_EQ(imp->settings().exit, rg::impostors::Exit::HeightMap);
+    refused("mode", 3, "mode A");
+    EXPECT_EQ(imp->settings().mode, rg::impostors::Mode::Classical);
+    s.render(false);  // the frame still draws
+    s.apply({Action::Kind::Param, 0, 0, 0, "exit"});
     try {
         s.apply({Action::Kind::Profile, 0, 0, 0, "geforce256"});
         FAIL() << "impostors cannot run on a GeForce 256";
