@@ -379,14 +379,16 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
         const CausticsComparison cc = compareCaustics(scene, base, 0.0f, S.causticReferencePhotons, threads, rasterPath);
         caustics = cc.json;
         const double peak = std::max(1e-6, caustics["scores"]["reference_max_irradiance"].get<double>());
-        // Shown with a quarter of the reference's largest irradiance as white, so that the
-        // pieces' weaker caustics show beside the sphere's focus.
-        auto shown = [&](const ray::Image& im) {
+        // A light map with `white` as white, clamped.
+        auto scaled = [](const ray::Image& im, double white) {
             ray::Image o(im.width, im.height, 3);
             for (int y = 0; y < im.height; ++y)
-                for (int x = 0; x < im.width; ++x) o.setRgb(x, y, glm::min(im.rgb(x, y) * float(4.0 / peak), glm::vec3(1.0f)));
+                for (int x = 0; x < im.width; ++x) o.setRgb(x, y, glm::min(im.rgb(x, y) * float(1.0 / white), glm::vec3(1.0f)));
             return o;
         };
+        // Shown with a quarter of the reference's largest irradiance as white, so that the
+        // pieces' weaker caustics show beside the sphere's focus.
+        auto shown = [&](const ray::Image& im) { return scaled(im, 0.25 * peak); };
         ray::writeImage(out / "caustics.png",
                         demos::labelledGrid({{cc.shadows, "shadows: light maps (visibility)"},
                                              {shown(cc.ours), "caustics: ours (photon maps, splats)"},
@@ -412,12 +414,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
             indexGlass(alone);
             const CausticsComparison mc = compareCaustics(alone, base, 0.0f, S.causticReferencePhotons, threads, rasterPath);
             const double mpeak = std::max(1e-6, mc.json["scores"]["reference_max_irradiance"].get<double>());
-            auto shownMirror = [&](const ray::Image& im) {
-                ray::Image o(im.width, im.height, 3);
-                for (int y = 0; y < im.height; ++y)
-                    for (int x = 0; x < im.width; ++x) o.setRgb(x, y, glm::min(im.rgb(x, y) * float(1.0 / mpeak), glm::vec3(1.0f)));
-                return o;
-            };
+            auto shownMirror = [&](const ray::Image& im) { return scaled(im, mpeak); };
             ray::writeImage(out / "caustics_mirror.png",
                             demos::labelledGrid({{shownMirror(mc.ours), "the mirror pawn's caustic: ours"},
                                                  {shownMirror(mc.reference), "photon-traced reference"},

@@ -117,6 +117,28 @@ LensMoments exactLens(double centreHeight) {
     return m;
 }
 
+// The splat kernel's normalisation on a size² map over the board: 1/(2πσ²·(1 − e^(−R²/2σ²))·A)
+// with R = 3σ and A a texel's world area, so that a splat carries its photon's power.
+double splatNorm(int size, double sigma) {
+    const double texel = double(kBoardWidth) / size, radius = 3.0 * sigma;
+    const double kept = 1.0 - std::exp(-radius * radius / (2.0 * sigma * sigma));
+    return 1.0 / (2.0 * std::numbers::pi * sigma * sigma * kept * texel * texel);
+}
+
+// A photon of `power` landing at texel position (px, py) of a size² map, splatted as the
+// emulated splats are: e^(−r²/2σ²) out to 3σ, times `norm` (the kernel's normalisation over
+// its disc and a texel's area).
+void splat(std::vector<double>& map, int size, double px, double py, double power, double sigma, double norm) {
+    const double radius = 3.0 * sigma;
+    for (int y = int(std::floor(py - radius)); y <= int(std::ceil(py + radius)); ++y)
+        for (int x = int(std::floor(px - radius)); x <= int(std::ceil(px + radius)); ++x) {
+            if (x < 0 || y < 0 || x >= size || y >= size) continue;
+            const double dx = (x + 0.5) - px, dy = (y + 0.5) - py, r2 = dx * dx + dy * dy;
+            if (r2 > radius * radius) continue;
+            map[size_t(y) * size_t(size) + size_t(x)] += power * norm * std::exp(-r2 / (2.0 * sigma * sigma));
+        }
+}
+
 // The exact lens's light map: photons on a fine grid over the disc (K × K cells of the
 // sphere's bounding square, each ray straight down through its centre), traced as above,
 // landing at (r·x/ρ, r·z/ρ), splatted with the emulated splats' kernel (σ texels to 3σ,
@@ -124,9 +146,7 @@ LensMoments exactLens(double centreHeight) {
 // Returns irradiance per texel (world units).
 std::vector<double> exactLightMap(double centreHeight, int size, double sigma) {
     const double R = kRadius, n = kIor, f0 = ((n - 1) / (n + 1)) * ((n - 1) / (n + 1));
-    const double texel = double(kBoardWidth) / size, radius = 3.0 * sigma;
-    const double kept = 1.0 - std::exp(-radius * radius / (2.0 * sigma * sigma));
-    const double norm = 1.0 / (2.0 * std::numbers::pi * sigma * sigma * kept * texel * texel);
+    const double texel = double(kBoardWidth) / size, norm = splatNorm(size, sigma);
     std::vector<double> map(size_t(size) * size_t(size), 0.0);
     const int K = 400;
     const double cell = 2.0 * R / K;
@@ -150,15 +170,7 @@ std::vector<double> exactLightMap(double centreHeight, int size, double sigma) {
             refract(tx, ty, -qx / R, -qy / R, n, ox, oy);
             const double r = qx + ox * (-(centreHeight + qy) / oy);
             const double lx = rho > 0 ? r * x / rho : 0.0, lz = rho > 0 ? r * z / rho : 0.0;
-            const double px = 0.5 * size + lx / texel, py = 0.5 * size + lz / texel;
-            const double power = (1 - F) * cell * cell;
-            for (int y = int(std::floor(py - radius)); y <= int(std::ceil(py + radius)); ++y)
-                for (int xx = int(std::floor(px - radius)); xx <= int(std::ceil(px + radius)); ++xx) {
-                    if (xx < 0 || y < 0 || xx >= size || y >= size) continue;
-                    const double dx = (xx + 0.5) - px, dy = (y + 0.5) - py, r2 = dx * dx + dy * dy;
-                    if (r2 > radius * radius) continue;
-                    map[size_t(y) * size_t(size) + size_t(xx)] += power * norm * std::exp(-r2 / (2.0 * sigma * sigma));
-                }
+            splat(map, size, 0.5 * size + lx / texel, 0.5 * size + lz / texel, (1 - F) * cell * cell, sigma, norm);
         }
     return map;
 }
@@ -353,9 +365,7 @@ ImpostorScene mirrorBall() {
 // on the board.
 std::vector<double> exactMirrorMap(int size, double sigma, double& landed) {
     const double R = kRadius, half = 0.5 * kBoardWidth;
-    const double texel = double(kBoardWidth) / size, radius = 3.0 * sigma;
-    const double kept = 1.0 - std::exp(-radius * radius / (2.0 * sigma * sigma));
-    const double norm = 1.0 / (2.0 * std::numbers::pi * sigma * sigma * kept * texel * texel);
+    const double texel = double(kBoardWidth) / size, norm = splatNorm(size, sigma);
     std::vector<double> map(size_t(size) * size_t(size), 0.0);
     landed = 0.0;
     const int K = 800;
@@ -372,14 +382,7 @@ std::vector<double> exactMirrorMap(int size, double sigma, double& landed) {
             if (std::fabs(lx) > half || std::fabs(lz) > half) continue;
             const double power = kMirrorReflectance * cell * cell;
             landed += power;
-            const double px = 0.5 * size + lx / texel, py = 0.5 * size + lz / texel;
-            for (int y = int(std::floor(py - radius)); y <= int(std::ceil(py + radius)); ++y)
-                for (int xx = int(std::floor(px - radius)); xx <= int(std::ceil(px + radius)); ++xx) {
-                    if (xx < 0 || y < 0 || xx >= size || y >= size) continue;
-                    const double ddx = (xx + 0.5) - px, ddy = (y + 0.5) - py, r2 = ddx * ddx + ddy * ddy;
-                    if (r2 > radius * radius) continue;
-                    map[size_t(y) * size_t(size) + size_t(xx)] += power * norm * std::exp(-r2 / (2.0 * sigma * sigma));
-                }
+            splat(map, size, 0.5 * size + lx / texel, 0.5 * size + lz / texel, power, sigma, norm);
         }
     return map;
 }

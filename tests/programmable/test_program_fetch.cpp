@@ -2,6 +2,7 @@
 // (gatherTaps + resolveTapsFloat), bit for bit, over random textures, samplers and λ.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +16,25 @@
 
 namespace rg::tex {
 namespace {
+
+// A 64², 7-level 2D texture of a 4-byte format whose level l holds the texel `bytes(l)`
+// everywhere.
+template <class Bytes>
+std::shared_ptr<Texture> uniformLevels(TextureMemory& memory, TexelFormat format, Bytes&& bytes) {
+    TextureDesc d;
+    d.format = format;
+    d.width = d.height = 64;
+    d.levels = 7;
+    auto t = memory.create(d);
+    for (int l = 0; l < 7; ++l) {
+        const int n = 64 >> l;
+        const std::array<uint8_t, 4> texel = bytes(l);
+        std::vector<uint8_t> b(static_cast<size_t>(n) * n * 4);
+        for (size_t i = 0; i < b.size(); i += 4) std::memcpy(&b[i], texel.data(), 4);
+        memory.upload(*t, l, 0, b);
+    }
+    return t;
+}
 
 TEST(ProgramFetch, FastPathMatchesTheTapListBitForBit) {
     std::mt19937 rng(99);
@@ -82,20 +102,12 @@ TEST(ProgramFetch, FastPathMatchesTheTapListBitForBit) {
 
 TEST(ProgramFetch, LodOfKnownGradientsSelectsTheExpectedLevel) {
     TextureMemory memory(profile(ProfileId::GeForce8800));
-    TextureDesc d;
-    d.format = TexelFormat::R32F;
-    d.width = d.height = 64;
-    d.levels = 7;
-    auto t = memory.create(d);
-    for (int l = 0; l < 7; ++l) {
-        const int n = 64 >> l;
-        std::vector<uint8_t> b(size_t(n) * n * 4);
-        for (size_t i = 0; i < b.size() / 4; ++i) {
-            const float v = float(l);  // each level holds its own number
-            std::memcpy(&b[i * 4], &v, 4);
-        }
-        memory.upload(*t, l, 0, b);
-    }
+    auto t = uniformLevels(memory, TexelFormat::R32F, [](int l) {
+        const float v = float(l);  // each level holds its own number
+        std::array<uint8_t, 4> b;
+        std::memcpy(b.data(), &v, 4);
+        return b;
+    });
     SamplerState s;
     s.magFilter = s.minFilter = FilterMode::Nearest;
     s.mipFilter = MipMode::Nearest;
@@ -208,17 +220,10 @@ TEST(ProgramFetch, QuadFetchOf8BitTexturesMatchesTheTapListBitForBit) {
 TEST(ProgramFetch, QuadFetchBlendsUniformLevelsAsTheirMix) {
     if (!avx2Enabled()) GTEST_SKIP() << "programFetchQuad8 needs AVX2, which this CPU lacks or RETROGLASS_NO_AVX2 turns off";
     TextureMemory memory(profile(ProfileId::GeForce8800));
-    TextureDesc d;
-    d.format = TexelFormat::RGBA8;
-    d.width = d.height = 64;
-    d.levels = 7;
-    auto t = memory.create(d);
-    for (int l = 0; l < 7; ++l) {
-        const int n = 64 >> l;
-        std::vector<uint8_t> b(size_t(n) * n * 4);
-        for (size_t i = 0; i < b.size(); i += 4) b[i] = b[i + 1] = b[i + 2] = uint8_t(20 * l), b[i + 3] = 255;
-        memory.upload(*t, l, 0, b);
-    }
+    auto t = uniformLevels(memory, TexelFormat::RGBA8, [](int l) {
+        const uint8_t v = uint8_t(20 * l);
+        return std::array<uint8_t, 4>{v, v, v, 255};
+    });
     SamplerState s;
     s.magFilter = s.minFilter = FilterMode::Linear;
     s.mipFilter = MipMode::Linear;
