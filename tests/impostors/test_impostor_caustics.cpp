@@ -274,23 +274,33 @@ TEST(ImpostorCaustics, SpreadFollowsTheExactTraceAtTwoBoardDistances) {
     EXPECT_NEAR(ma.energy / exactLens(near).power, 1.0, 0.03);
 }
 
-// The photon-traced reference (raycore/tracer_caustics.h) through the same ball lens: its
-// energy and spread are the exact lens's too (its meshes are the tessellated sphere's).
-TEST(ImpostorCaustics, PhotonTracedReferenceMatchesTheExactLens) {
-    const ImpostorScene scene = ballLens(kFocus);
-    const ImpostorSettings st = causticSettings();
+// The photon-traced reference's light map of `scene` (photonsPerAxis² per object and light)
+// in the board's texture space as the renderer sets it up: irradiance per texel (red), its
+// energy, and the trace's counts where `result` is given.
+std::vector<double> referenceMap(const ImpostorScene& scene, const ImpostorSettings& st, int photonsPerAxis,
+                                 double& energy, ray::CausticTraceResult* result) {
     ImpostorRenderer r(scene, 2);
     r.render(scene.camera, st);  // the board's texture space, as the reproduction takes it
-    const ray::CausticTraceOptions o = causticTraceOptions(r, scene, st, 128);
-    const ray::CausticTraceResult ref = ray::traceCausticLightMap(scene.scene, o);
+    const ray::CausticTraceResult ref = ray::traceCausticLightMap(scene.scene, causticTraceOptions(r, scene, st, photonsPerAxis));
     std::vector<double> red;
-    double energy = 0;
+    energy = 0;
     const double area = (kBoardWidth / st.lightMapSize) * (kBoardWidth / st.lightMapSize);
     for (int y = 0; y < st.lightMapSize; ++y)
         for (int x = 0; x < st.lightMapSize; ++x) {
             red.push_back(ref.lightMap.rgb(x, y).x);
             energy += red.back() * area;
         }
+    if (result) *result = ref;
+    return red;
+}
+
+// The photon-traced reference (raycore/tracer_caustics.h) through the same ball lens: its
+// energy and spread are the exact lens's too (its meshes are the tessellated sphere's).
+TEST(ImpostorCaustics, PhotonTracedReferenceMatchesTheExactLens) {
+    const ImpostorScene scene = ballLens(kFocus);
+    const ImpostorSettings st = causticSettings();
+    double energy = 0;
+    const std::vector<double> red = referenceMap(scene, st, 128, energy, nullptr);
     EXPECT_NEAR(energy / exactLens(kFocus).power, 1.0, 0.03) << "reference energy " << energy;
     const std::vector<double> exactMap = exactLightMap(kFocus, st.lightMapSize, st.causticSigma);
     for (double rad : {2.0, 4.0, 8.0, 16.0})
@@ -416,18 +426,9 @@ TEST(ImpostorCaustics, MirrorBallLightsTheRingTheExactReflectionLights) {
 TEST(ImpostorCaustics, PhotonTracedReferenceMatchesTheExactMirrorBall) {
     const ImpostorScene scene = mirrorBall();
     const ImpostorSettings st = causticSettings();
-    ImpostorRenderer r(scene, 2);
-    r.render(scene.camera, st);
-    const ray::CausticTraceOptions o = causticTraceOptions(r, scene, st, 256);
-    const ray::CausticTraceResult ref = ray::traceCausticLightMap(scene.scene, o);
-    std::vector<double> red;
     double energy = 0;
-    const double area = (kBoardWidth / st.lightMapSize) * (kBoardWidth / st.lightMapSize);
-    for (int y = 0; y < st.lightMapSize; ++y)
-        for (int x = 0; x < st.lightMapSize; ++x) {
-            red.push_back(ref.lightMap.rgb(x, y).x);
-            energy += red.back() * area;
-        }
+    ray::CausticTraceResult ref;
+    const std::vector<double> red = referenceMap(scene, st, 256, energy, &ref);
     double landed = 0;
     const std::vector<double> exactMap = exactMirrorMap(st.lightMapSize, st.causticSigma, landed);
     EXPECT_NEAR(energy / landed, 1.0, 0.03) << "reference energy " << energy << " exact " << landed;
