@@ -1408,46 +1408,46 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
         c.holds = acc >= 0.95;
         rep.claim(c);
     }
+    // §7's caustics claims, glass and mirror: the median distance from each reference peak
+    // (≥ 1/10 of its largest irradiance) to the nearest of ours against the measured margin,
+    // twice the 90th percentile of how far the reference's own peaks move when it is traced
+    // with half the photons (its sampling spread), ≥ 1 texel.
+    auto causticsClaim = [&](const std::string& id, const std::string& statement, const std::string& test,
+                             const nlohmann::json& sc) {
+        demos::Claim c;
+        c.id = id;
+        c.section = "§7";
+        c.statement = statement;
+        c.test = test + num(sc["peak_margin_texels"].get<double>(), 1) + " texels";
+        c.measured = {{"peak_offset_median_texels", sc["peak_offset_median_texels"]},
+                      {"peak_margin_texels", sc["peak_margin_texels"]},
+                      {"reference_peaks", sc["reference_peaks"]},
+                      {"correlation", sc["correlation"]},
+                      {"energy_ratio", sc["energy_ratio"]}};
+        c.holds = sc["peak_offset_median_texels"].get<double>() <= sc["peak_margin_texels"].get<double>();
+        return c;
+    };
     if (!caustics.empty()) {
-        // The margin is measured: twice the 90th percentile of how far the reference's own
-        // peaks move when it is traced with half the photons (its sampling spread), ≥ 1 texel.
         const auto& sc = caustics["scores"];
-        demos::Claim c;
-        c.id = "caustics_where_photon_tracing_puts_them";
-        c.section = "§7";
-        c.statement = "Photons refracted through the pieces by searching their refractor maps light the board where "
-                      "photons traced through the exact geometry do: the caustics peak where the reference's peak";
-        c.test = "median distance from each reference caustic peak (≥ 1/10 of its largest irradiance) to the nearest of "
-                 "ours ≤ the margin, twice the 90th percentile of that distance for the reference traced with half the "
-                 "photons (≥ 1 texel): " + num(sc["peak_margin_texels"].get<double>(), 1) + " texels";
-        c.measured = {{"peak_offset_median_texels", sc["peak_offset_median_texels"]},
-                      {"peak_margin_texels", sc["peak_margin_texels"]},
-                      {"peaks_within_margin", sc["peaks_within_margin"]},
-                      {"reference_peaks", sc["reference_peaks"]},
-                      {"correlation", sc["correlation"]},
-                      {"psnr_db", sc["psnr_db_peak_reference_max"]},
-                      {"energy_ratio", sc["energy_ratio"]}};
-        c.holds = sc["peak_offset_median_texels"].get<double>() <= sc["peak_margin_texels"].get<double>();
+        demos::Claim c = causticsClaim(
+            "caustics_where_photon_tracing_puts_them",
+            "Photons refracted through the pieces by searching their refractor maps light the board where photons "
+            "traced through the exact geometry do: the caustics peak where the reference's peak",
+            "median distance from each reference caustic peak (≥ 1/10 of its largest irradiance) to the nearest of ours "
+            "≤ the margin, twice the 90th percentile of that distance for the reference traced with half the photons "
+            "(≥ 1 texel): ",
+            sc);
+        c.measured["peaks_within_margin"] = sc["peaks_within_margin"];
+        c.measured["psnr_db"] = sc["psnr_db_peak_reference_max"];
         rep.claim(c);
     }
-    if (r.contains("caustics_mirror")) {
-        const auto& sc = r["caustics_mirror"]["scores"];
-        demos::Claim c;
-        c.id = "mirror_caustics_where_photon_tracing_puts_them";
-        c.section = "§7";
-        c.statement = "Reflecting pieces focus the light too: photons reflected by the mirror pawn light the board where "
-                      "photons reflected by its exact mesh do";
-        c.test = "the glass caustics' test on the board with the mirror pawn alone: median distance from each reference "
-                 "peak (≥ 1/10 of its largest irradiance) to the nearest of ours ≤ " +
-                 num(sc["peak_margin_texels"].get<double>(), 1) + " texels";
-        c.measured = {{"peak_offset_median_texels", sc["peak_offset_median_texels"]},
-                      {"peak_margin_texels", sc["peak_margin_texels"]},
-                      {"reference_peaks", sc["reference_peaks"]},
-                      {"correlation", sc["correlation"]},
-                      {"energy_ratio", sc["energy_ratio"]}};
-        c.holds = sc["peak_offset_median_texels"].get<double>() <= sc["peak_margin_texels"].get<double>();
-        rep.claim(c);
-    }
+    if (r.contains("caustics_mirror"))
+        rep.claim(causticsClaim("mirror_caustics_where_photon_tracing_puts_them",
+                                "Reflecting pieces focus the light too: photons reflected by the mirror pawn light the "
+                                "board where photons reflected by its exact mesh do",
+                                "the glass caustics' test on the board with the mirror pawn alone: median distance from "
+                                "each reference peak (≥ 1/10 of its largest irradiance) to the nearest of ours ≤ ",
+                                r["caustics_mirror"]["scores"]));
     rep.claim(demos::claimWithin("separation_as_good_as_classical", "§5.2, Figure 9",
                                  "With separation, paths through the moving piece are still found: the image is as close "
                                  "to ray tracing as rebuilding every map",
