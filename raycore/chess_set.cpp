@@ -90,12 +90,21 @@ void addChessSet(Scene& scene, uint32_t whiteGlass, uint32_t blackGlass, int seg
         glm::mat4 facing = glm::rotate(glm::mat4(1.0f), side == 0 ? -1.5707963f : 1.5707963f,
                                        {0.0f, 1.0f, 0.0f});
         const std::string colour = side == 0 ? "white_" : "black_";
+        // Each piece rests kChessRestGap above the board, not on it. With the base in the
+        // board's plane, a ray inside the glass meets the base and the board at the same
+        // distance and Embree's closest hit picks either, pixel by pixel: the bodies came
+        // out black with sky-blue speckles. A gap makes the base a glass-air interface, as
+        // under a real piece (felt, or wood's roughness), where the rays that the flared
+        // bodies send steeply down reflect totally — and as the impostors' refractor maps
+        // see it. 0.01 squares: above the tracer's origin offset (1e-5 of the scene's extent
+        // times 1 + the largest coordinate: 0.003 in raycore's `chess` with its 60-wide
+        // floor), below anything an image shows.
         for (int file = 0; file < 8; ++file) {
             float x = -3.5f + float(file);
             scene.addObject(colour + backRank[file] + std::to_string(file), meshFor(backRank[file]), mat,
-                            glm::translate(glm::mat4(1.0f), {x, 0.0f, back}) * facing);
+                            glm::translate(glm::mat4(1.0f), {x, kChessRestGap, back}) * facing);
             scene.addObject(colour + "pawn" + std::to_string(file), meshFor("pawn"), mat,
-                            glm::translate(glm::mat4(1.0f), {x, 0.0f, pawns}));
+                            glm::translate(glm::mat4(1.0f), {x, kChessRestGap, pawns}));
         }
     }
 }

@@ -57,7 +57,7 @@ class ImpostorTechnique final : public demos::Technique {
         ray::RenderOptions ro;
         ro.width = options_.width;
         ro.height = options_.height;
-        ro.maxDepth = 8;
+        ro.maxDepth = ImpostorReproduceSettings{}.referenceDepth;  // the reproduction's reference
         ro.threads = options_.threads;
         demos::GroundTruth g;
         g.image = ray::renderWhitted(accel, camera, ro);
@@ -67,7 +67,7 @@ class ImpostorTechnique final : public demos::Technique {
                 const ray::Hit h = accel.intersect(ray::primaryRay(camera, ro.width, ro.height, float(x) + 0.5f, float(y) + 0.5f));
                 g.coverage.at(x, y, 0) = h.valid() && std::find(scene_.glass.begin(), scene_.glass.end(), h.object) != scene_.glass.end();
             }
-        g.tracer = "raycore Whitted, depth 8, 1 sample at the pixel centre";
+        g.tracer = "raycore Whitted, depth " + std::to_string(ro.maxDepth) + ", 1 sample at the pixel centre";
         return g;
     }
 

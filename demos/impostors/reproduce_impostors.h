@@ -24,7 +24,11 @@ struct ImpostorReproduceSettings {
     int iterations = 8;               // secant steps after p and l
     int timedFrames = 2;              // per configuration, after a warm-up frame
     int classicalFrames = 1;
-    int referenceDepth = 8;           // the Whitted reference's interfaces after the primary hit
+    // The Whitted reference's interfaces after the primary hit. A path cut there returns
+    // black; rays caught by total internal reflection in the pieces' stems need many: on
+    // raycore's chess view at 300², the image at depth 8 differs from depth 32's by more
+    // than 1/255 at 1,847 pixels (2.1 %), at depth 16 at 196, at depth 24 at 39 (0.04 %).
+    int referenceDepth = 24;
     int segments = 56;                // the pieces' lathe segments (the paper's face count)
     int sphereSlices = 64;
     std::vector<float> dollies = {1.0f, 0.8f, 0.65f, 0.5f};  // camera distance, × Figure 10's

@@ -210,6 +210,18 @@ TEST(ImpostorClaims, EveryReportedClaimAtQuickQuality) {
         const double th = t0["height-map"]["exit_total_reflection"]["ours_fraction"].get<double>();
         const double td = t0["distance-map"]["exit_total_reflection"]["ours_fraction"].get<double>();
         EXPECT_EQ(c["holds"].get<bool>(), minGain > 0 && mean >= margin && std::fabs(th - rt) < std::fabs(td - rt)) << c.dump(2);
+        // Where the true exit is on a curved face, which a height map holds, it beats the
+        // distance map by more than the PSNR margin (0.5 dB); the claim over every glass pixel
+        // does not hold (below), decided by the flat bases a height map cannot hold.
+        const auto& bf = r["height_maps"]["first_view_by_exit_face"];
+        ASSERT_TRUE(bf.contains("curved") && bf.contains("flat")) << r["height_maps"].dump(2);
+        EXPECT_GE(bf["curved"]["glass_psnr_height_map_db"].get<double>() - bf["curved"]["glass_psnr_distance_map_db"].get<double>(),
+                  0.5)
+            << bf.dump(2);
+        EXPECT_EQ(c["measured"]["glass_psnr_curved_exits_height_map_db"].get<double>(),
+                  bf["curved"]["glass_psnr_height_map_db"].get<double>());
+        EXPECT_LE(bf["curved"]["pixels"].get<int64_t>() + bf["flat"]["pixels"].get<int64_t>(),
+                  views[0]["height-map"]["glass_pixels"].get<int64_t>());
     }
 
     {
@@ -236,16 +248,21 @@ TEST(ImpostorClaims, EveryReportedClaimAtQuickQuality) {
     }
     // Every claim that holds at quick quality and does not depend on the machine, by id.
     for (const char* id : {"iterations_reduce_error", "iterations_diminishing_returns", "refractor_map_finds_the_exit",
-                           "separation_as_good_as_classical", "height_maps_beat_distance_maps_for_double_refraction",
-                           "caustics_where_photon_tracing_puts_them", "mirror_caustics_where_photon_tracing_puts_them"})
+                           "separation_as_good_as_classical", "caustics_where_photon_tracing_puts_them",
+                           "mirror_caustics_where_photon_tracing_puts_them"})
         expectHolds(r, id);
     // Not asserted to hold (verdicts checked above, rows in report.md):
-    // - depth_adds_bounces: over all glass pixels DEPTH 2 is 0.003 dB closer to the ray tracer
-    //   than DEPTH 1 at quick quality, an error the extra bounce does not touch (total
-    //   reflection at the exit: 64 % of glass pixels in ours, 34 % in the ray tracer). Decided
-    //   on the 409 of 51,151 glass pixels (3 views) that DEPTH 1 and 3 render differently,
-    //   DEPTH 2 is 0.28 dB closer (12.62 against 12.34 dB; closer at 56 % of those pixels),
-    //   under the 0.5 dB margin.
+    // - height_maps_beat_distance_maps_for_double_refraction: with the pieces' bases
+    //   glass-air faces in the reference (2026-11-28; before, the ray tracer took the base or
+    //   the board pixel by pixel, and the claim held by 2.3 dB against that noise), the height
+    //   map loses by 1.7 dB over every glass pixel. 53 % of the first view's refracted rays
+    //   first leave through a flat base or top, which a height map sees edge-on: there it
+    //   scores 8.8 dB against the distance map's 11.8. On the curved exits it wins, 15.2
+    //   against 13.8 dB (asserted above).
+    // - depth_adds_bounces: over all glass pixels DEPTH 2 is within 0.01 dB of DEPTH 1
+    //   against the ray tracer at quick quality, an error the extra bounce does not touch.
+    //   Decided on the glass pixels (3 views) that DEPTH 1 and 3 render differently, DEPTH 2
+    //   is 0.30 dB closer (12.88 against 12.58 dB), under the 0.5 dB margin.
     // - outside_search_tells_hits_from_misses: 89.9 % agreement with Embree at ε = 3 % of
     //   the pawn's half diagonal against the 95 % bar; most disagreements are hits missed (the
     //   report's Figure 4 table).

@@ -37,7 +37,9 @@ uint32_t addRoom(Scene& scene, glm::vec3 lo, glm::vec3 hi, const std::string& pr
 uint32_t addCup(Scene& scene, uint32_t material, const glm::mat4& transform);
 void addColumnRing(Scene& scene, glm::vec3 center, float radius, int count, float height,
                    uint32_t material);
-// The 32 pieces on their squares (white on ranks 1–2 at z < 0), lathes of `segments`.
+// The 32 pieces on their squares (white on ranks 1–2 at z < 0), lathes of `segments`,
+// their bases kChessRestGap above the board's top (y = 0): see chess_set.cpp.
+inline constexpr float kChessRestGap = 0.01f;
 void addChessSet(Scene& scene, uint32_t whiteGlass, uint32_t blackGlass, int segments = 40);
 // The 8×8 board: a slab 8·squareSize wide whose top face carries uvs [0,1]² (a checker
 // texture with scale 8 draws the squares), top face at y = 0.
