@@ -18,6 +18,7 @@
 #include "figures.h"
 #include "impostor_demo.h"
 #include "impostor_height_programs.h"
+#include "impostor_search_linear.h"
 #include "reproduce_caustics.h"
 #include "raycore/accel.h"
 #include "raycore/builtin_scenes.h"
@@ -1204,6 +1205,12 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
         };
         Settle settleFound, settleMissed;
         int64_t missedLongSearch = 0;
+        // [6]'s linear search first, for comparison (outsideSearchLinearFirst): agreement
+        // with Embree at the frame's ε, per sample count.
+        const std::vector<int> linearSamples = {4, 8, 16};
+        std::vector<int64_t> linearAgree(linearSamples.size(), 0), linearMissed(linearSamples.size(), 0),
+            linearFalse(linearSamples.size(), 0), linearHits(linearSamples.size(), 0);
+        std::vector<double> linearHitErr(linearSamples.size(), 0.0);
         const float tolerance = 1e-3f * halfDiagonal;
         auto seenFromCentre = [&](const glm::vec3& p) {
             ray::Ray fc;
@@ -1220,6 +1227,16 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
             ray.origin = o;
             ray.dir = dir;
             const ray::Hit truth = accel.intersect(ray);
+            for (size_t k = 0; k < linearSamples.size(); ++k) {
+                const OutsideHit<float, bool> lh =
+                    outsideSearchLinearFirst(Vec3L<float>(o.x - c.x, o.y - c.y, o.z - c.z), Vec3L<float>(dir.x, dir.y, dir.z),
+                                             lo, hi, base.epsilon * halfDiagonal, linearSamples[k], S.iterations, fetch);
+                const bool found = lh.valid;
+                if (found && truth.valid()) ++linearHits[k], linearHitErr[k] += std::fabs(double(lh.t) - double(truth.t));
+                linearAgree[k] += found == truth.valid();
+                linearMissed[k] += truth.valid() && !found;
+                linearFalse[k] += found && !truth.valid();
+            }
             if (truth.valid()) {
                 const Vec3L<float> yl(o.x - c.x, o.y - c.y, o.z - c.z), Rl(dir.x, dir.y, dir.z);
                 const float eps = base.epsilon * halfDiagonal;
@@ -1328,6 +1345,14 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
                                    {"bracketed", settleMissed.n ? double(settleMissed.bracketed) / double(settleMissed.n) : 0.0},
                                    {"mean_ratio_off", settleMissed.n ? settleMissed.ratioOff / double(settleMissed.n) : 0.0}}}}}};
         if (sphereOutsideAccuracy >= 0) fig4["sphere_accuracy_at_epsilon"] = sphereOutsideAccuracy;
+        nlohmann::json lin = nlohmann::json::array();
+        for (size_t k = 0; k < linearSamples.size(); ++k)
+            lin.push_back({{"samples", linearSamples[k]},
+                           {"accuracy", double(linearAgree[k]) / double(S.outsideRays)},
+                           {"missed_hits", linearMissed[k]},
+                           {"false_hits", linearFalse[k]},
+                           {"mean_hit_error", linearHits[k] ? linearHitErr[k] / double(linearHits[k]) : 0.0}});
+        fig4["linear_search_first_at_epsilon"] = lin;
     }
     r["figure3_refractor_exit"] = fig3;
     r["figure4_outside_search"] = fig4;
@@ -1806,6 +1831,18 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
             md << " The glass sphere's map, convex and so holding every crossing, searched from outside with rays aimed "
                   "the same way at its box, agrees with Embree on "
                << num(100.0 * fig4["sphere_accuracy_at_epsilon"].get<double>(), 1) << " % of them.";
+        if (fig4.contains("linear_search_first_at_epsilon")) {
+            md << " For comparison, not the frame's search: [6]'s linear search before the same secant steps, which "
+                  "§3 names and the paper does not use (\"We used the method described in [5], which uses only secant "
+                  "search\"), points evenly along the ray's span in the box bracketing the last crossing from inside:";
+            for (const auto& row : fig4["linear_search_first_at_epsilon"])
+                md << " " << row["samples"].get<int>() << " points, " << num(100.0 * row["accuracy"].get<double>(), 1)
+                   << " % agree (" << row["missed_hits"].get<int64_t>() << " missed, " << row["false_hits"].get<int64_t>()
+                   << " false hits);";
+            md << " the frame's search reads " << 4 + mh["iterations"].get<int>() << " texels a ray. A better seed recovers "
+                  "some of the missed hits, but even with 16 points the agreement stays under the claim's 95 %: the "
+                  "rest are not the seed's.";
+        }
         md << "\n\n";
     }
     rep.figure("refractor_maps.png", "Refractor distance maps (002 §3, Figure 3): the normals of each mesh seen from its "

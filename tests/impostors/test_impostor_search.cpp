@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "impostor_search_linear.h"
 #include "impostor_shading.h"
 #include "raycore/fresnel.h"
 #include "reproduce_impostors.h"
@@ -235,6 +236,56 @@ TEST(ImpostorSearch, OutsideSearchFindsTheEntryAndRejectsMisses) {
     EXPECT_GT(hits, 300);
     EXPECT_GT(misses, 300);
     EXPECT_GT(checked, 1500);
+}
+
+// Figure 4's comparison search ([6]'s linear search, then the secant steps) on the same
+// analytic sphere: the entry within 0.01 of the analytic one (the last crossing from inside
+// along the reversed ray, never the far side's), misses rejected, and samples + iterations
+// texels read (one more when the last sample is inside), none when the box is missed.
+TEST(ImpostorSearch, LinearFirstOutsideSearchFindsTheEntryAndRejectsMisses) {
+    const float radius = 0.5f;
+    const SphereMap m({0.0f, 0.0f, 0.0f}, radius, 256);
+    const float lo[3] = {-radius, -radius, -radius}, hi[3] = {radius, radius, radius};
+    const float eps = 0.015f;
+    std::mt19937 rng(5);
+    std::normal_distribution<float> g;
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    int hits = 0, misses = 0, boxMisses = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const glm::vec3 o = glm::normalize(glm::vec3(g(rng), g(rng), g(rng))) * 2.0f;
+        const glm::vec3 aim(u(rng) * 0.8f, u(rng) * 0.8f, u(rng) * 0.8f);
+        const glm::vec3 d = glm::normalize(aim - o);
+        const float b = glm::dot(o, d), c = glm::dot(o, o) - radius * radius, disc = b * b - c;
+        const float closest = std::sqrt(std::max(0.0f, glm::dot(o, o) - b * b));
+        // Rays within 2ε of the silhouette are excused, and so are rays whose chord is shorter
+        // than the samples' spacing could see (16 samples over the box's span ≥ the chord).
+        if (std::fabs(closest - radius) < 2 * eps) continue;
+        if (disc > 0 && 2.0f * std::sqrt(disc) < 2.0f * std::sqrt(3.0f) * radius / 16.0f) continue;
+        int count = 0;
+        const Fetch fetch{&m, &count};
+        const OutsideHit<float, bool> h =
+            outsideSearchLinearFirst(V3(o.x, o.y, o.z), V3(d.x, d.y, d.z), lo, hi, eps, 16, 8, fetch);
+        if (!h.boxHit) {
+            EXPECT_EQ(count, 0);
+            EXPECT_FALSE(h.valid);
+            ++boxMisses;
+            continue;
+        }
+        if (disc > 0) {
+            ASSERT_TRUE(h.valid) << "ray " << i << " hits the sphere";
+            EXPECT_NEAR(h.t, -b - std::sqrt(disc), 0.01f) << "ray " << i;
+            EXPECT_GE(count, 16 + 8);
+            EXPECT_LE(count, 16 + 8 + 1);
+            ++hits;
+        } else {
+            EXPECT_FALSE(h.valid) << "ray " << i << " misses the sphere by " << closest - radius;
+            EXPECT_EQ(count, 16) << "no sample inside: no secant step";
+            ++misses;
+        }
+    }
+    EXPECT_GT(hits, 300);
+    EXPECT_GT(misses, 100);
+    EXPECT_GT(boxMisses, 10);
 }
 
 TEST(ImpostorSearch, RefractionIsRaycoresAndTotalInternalReflectionMirrors) {
