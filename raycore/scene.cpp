@@ -1,6 +1,11 @@
 // Scene bookkeeping and validation.
 #include "raycore/scene.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
 #include "core/error.h"
 
 namespace rg::ray {
@@ -12,6 +17,99 @@ int findByName(const V& v, const std::string& name) {
         if (v[i].name == name) return int(i);
     return -1;
 }
+// A glass object's flat face in the plane of another object's face that faces it (glass
+// resting on a table, pushed against a wall): a ray inside the glass meets both faces at one
+// distance, and the tracer's closest hit takes either, pixel by pixel — the glass comes out
+// black and speckled (raycore's chess pieces on their board did, until 2026-11-28). Looked
+// for where it happens: on the six faces of the glass object's box, each face's triangles
+// within the tracer's origin offset of that plane (Accel: 1e-5 of the scene's diagonal times
+// 1 + the largest coordinate there; anything nearer the tracer cannot separate) against
+// the other objects' triangles in the same plane facing the other way, their extents in the
+// plane overlapping; faces under 1 % of the box's face are let be (a point or a thin rim
+// touching shows in a few pixels at most). One warning per pair of objects.
+void warnGlassInContact(const Scene& scene, const std::vector<Bounds>& placed, const Bounds& all,
+                        const std::string& where, std::vector<std::string>& warnings) {
+    const float unit = 1e-5f * std::max(glm::length(all.hi - all.lo), 1.0f);
+    auto worldOf = [&](size_t i) {
+        const Object& o = scene.objects[i];
+        std::vector<glm::vec3> w;
+        w.reserve(scene.meshes[o.mesh].positions.size());
+        for (const glm::vec3& p : scene.meshes[o.mesh].positions) w.push_back(glm::vec3(o.transform * glm::vec4(p, 1.0f)));
+        return w;
+    };
+    static const char* kAxis = "xyz";
+    for (size_t g = 0; g < scene.objects.size(); ++g) {
+        if (scene.materials[scene.objects[g].material].type != MaterialType::Glass) continue;
+        const Mesh& gm = scene.meshes[scene.objects[g].mesh];
+        std::vector<glm::vec3> gw;  // made on the first pair whose boxes meet
+        std::vector<bool> warned(scene.objects.size(), false);
+        for (size_t o = 0; o < scene.objects.size(); ++o) {
+            if (o == g) continue;
+            const Bounds& a = placed[g];
+            const Bounds& b = placed[o];
+            const float pad = unit * (1.0f + std::max({glm::abs(a.lo).x, glm::abs(a.lo).y, glm::abs(a.lo).z,
+                                                       glm::abs(a.hi).x, glm::abs(a.hi).y, glm::abs(a.hi).z}));
+            if (glm::any(glm::greaterThan(a.lo - pad, b.hi)) || glm::any(glm::greaterThan(b.lo - pad, a.hi))) continue;
+            if (gw.empty()) gw = worldOf(g);
+            const std::vector<glm::vec3> ow = worldOf(o);
+            const Mesh& om = scene.meshes[scene.objects[o].mesh];
+            for (int axis = 0; axis < 3 && !warned[o]; ++axis)
+                for (int side = 0; side < 2 && !warned[o]; ++side) {
+                    const float c = side == 0 ? a.lo[axis] : a.hi[axis];
+                    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                    // The glass face: its triangles in the plane, facing out of the box.
+                    glm::vec2 flo(std::numeric_limits<float>::infinity()), fhi(-std::numeric_limits<float>::infinity());
+                    float tol = 0.0f;
+                    double area = 0.0;  // of the glass face's triangles in the plane
+                    auto inPlane = [&](const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, float t) {
+                        return std::fabs(p0[axis] - c) <= t && std::fabs(p1[axis] - c) <= t && std::fabs(p2[axis] - c) <= t;
+                    };
+                    for (size_t t = 0; t + 2 < gm.indices.size(); t += 3) {
+                        const glm::vec3 &p0 = gw[gm.indices[t]], &p1 = gw[gm.indices[t + 1]], &p2 = gw[gm.indices[t + 2]];
+                        const float local = unit * (1.0f + std::max({glm::abs(p0)[u], glm::abs(p0)[v], std::fabs(c)}));
+                        if (!inPlane(p0, p1, p2, local)) continue;
+                        const float n = glm::cross(p1 - p0, p2 - p0)[axis];
+                        if (side == 0 ? !(n < 0.0f) : !(n > 0.0f)) continue;
+                        for (const glm::vec3* p : {&p0, &p1, &p2}) {
+                            flo = glm::min(flo, glm::vec2((*p)[u], (*p)[v]));
+                            fhi = glm::max(fhi, glm::vec2((*p)[u], (*p)[v]));
+                        }
+                        tol = std::max(tol, local);
+                        area += 0.5 * double(std::fabs(n));
+                    }
+                    // No flat face on this side, or one too small to show: under 1 % of the box's
+                    // face (a sphere's pole, the Newell teapot's rim on the floor: 0.4 %).
+                    const double boxFace = double(a.hi[u] - a.lo[u]) * double(a.hi[v] - a.lo[v]);
+                    if (!(flo.x <= fhi.x) || area < 0.01 * boxFace) continue;
+                    // The other object's triangles in the same plane, facing the glass.
+                    for (size_t t = 0; t + 2 < om.indices.size(); t += 3) {
+                        const glm::vec3 &p0 = ow[om.indices[t]], &p1 = ow[om.indices[t + 1]], &p2 = ow[om.indices[t + 2]];
+                        if (!inPlane(p0, p1, p2, tol)) continue;
+                        const float n = glm::cross(p1 - p0, p2 - p0)[axis];
+                        if (side == 0 ? !(n > 0.0f) : !(n < 0.0f)) continue;
+                        const glm::vec2 tlo = glm::min(glm::min(glm::vec2(p0[u], p0[v]), glm::vec2(p1[u], p1[v])), glm::vec2(p2[u], p2[v]));
+                        const glm::vec2 thi = glm::max(glm::max(glm::vec2(p0[u], p0[v]), glm::vec2(p1[u], p1[v])), glm::vec2(p2[u], p2[v]));
+                        if (tlo.x >= fhi.x || tlo.y >= fhi.y || flo.x >= thi.x || flo.y >= thi.y) continue;
+                        char plane[64];
+                        std::snprintf(plane, sizeof plane, "%c = %g", kAxis[axis], double(c));
+                        char gap[32], areaText[32];
+                        std::snprintf(gap, sizeof gap, "%.2g", double(tol));
+                        std::snprintf(areaText, sizeof areaText, "%.3g", area);
+                        warnings.push_back(where + ": glass object '" + scene.objects[g].name + "' has a flat face of area " +
+                                           areaText + " in the plane of '" + scene.objects[o].name + "' (" + plane +
+                                           ", within the tracer's ray offset " + gap +
+                                           "): a ray inside the glass that reaches it meets both faces at the same distance, "
+                                           "and the tracer takes either, pixel by pixel (a glass chess piece on its board "
+                                           "came out black and speckled); leave a gap of a few times " + gap +
+                                           " (docs/scene-format.md)");
+                        warned[o] = true;
+                        break;
+                    }
+                }
+        }
+    }
+}
+
 }  // namespace
 
 int Scene::findObject(const std::string& n) const { return findByName(objects, n); }
@@ -73,6 +171,8 @@ std::vector<std::string> validateScene(const Scene& scene, const std::string& la
             throw Error(where + ": glass material '" + m.name + "' needs ior > 0");
     }
     std::vector<int> glassChecked(scene.meshes.size(), -1);
+    std::vector<Bounds> placed;
+    placed.reserve(scene.objects.size());
     Bounds all;  // of every placed object, as Accel sizes its ray offsets by them
     for (const Object& o : scene.objects) {
         if (o.mesh >= scene.meshes.size())
@@ -83,6 +183,7 @@ std::vector<std::string> validateScene(const Scene& scene, const std::string& la
         // good mesh into one of no area or of an extent past float's range.
         const Bounds b = validatePlacedMesh(scene.meshes[o.mesh], o.transform,
                                             where + ": object '" + o.name + "'");
+        placed.push_back(b);
         all.lo = glm::min(all.lo, b.lo);
         all.hi = glm::max(all.hi, b.hi);
         if (scene.materials[o.material].type == MaterialType::Glass) {
@@ -95,6 +196,7 @@ std::vector<std::string> validateScene(const Scene& scene, const std::string& la
         }
     }
     validateExtent(all, where + ": the objects together");
+    warnGlassInContact(scene, placed, all, where, warnings);
     return warnings;
 }
 

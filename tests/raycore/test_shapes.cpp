@@ -3,6 +3,8 @@
 
 #include <numbers>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "raycore/accel.h"
 #include "raycore/builtin_scenes.h"
 #include "raycore/mesh_io.h"
@@ -126,6 +128,77 @@ TEST(Shapes, ChessPiecesRestAboveTheBoardSoTheirBasesAreGlassAirFaces) {
     }
     EXPECT_EQ(pieces, 32);
     EXPECT_EQ(rays, 32 * 32);
+}
+
+// validateScene warns when a glass object's flat face lies in the plane of another
+// object's face turned towards it (the chess pieces' bug, for users' scenes), and only then.
+TEST(Shapes, GlassRestingInAnotherFacesPlaneIsWarnedAbout) {
+    auto sceneWith = [](float lift, glm::vec3 offset, MaterialType cubeType, bool wall) {
+        Scene s;
+        s.name = "contact";
+        Material glass;
+        glass.name = "cube_material";
+        glass.type = cubeType;
+        glass.ior = 1.5f;
+        Material clay;
+        clay.name = "clay";
+        const uint32_t gm = s.addMaterial(glass), cm = s.addMaterial(clay);
+        // A floor slab with its top at y = 0, 8 wide, and a wall slab with its face at x = 2.
+        s.addObject("floor", s.addMesh(makeCube(1.0f)), cm,
+                    glm::scale(glm::translate(glm::mat4(1.0f), {0.0f, -0.5f, 0.0f}), {4.0f, 0.5f, 4.0f}));
+        if (wall)
+            s.addObject("wall", s.addMesh(makeCube(1.0f)), cm,
+                        glm::scale(glm::translate(glm::mat4(1.0f), {2.5f, 2.0f, 0.0f}), {0.5f, 2.0f, 4.0f}));
+        // A cube of half size 0.5 resting on the floor (its bottom at y = lift).
+        s.addObject("cube", s.addMesh(makeCube(0.5f)), gm,
+                    glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.5f + lift, 0.0f) + offset));
+        return s;
+    };
+    auto mentions = [](const std::vector<std::string>& w, const std::string& a, const std::string& b) {
+        for (const std::string& m : w)
+            if (m.find("'" + a + "'") != std::string::npos && m.find("'" + b + "'") != std::string::npos) return true;
+        return false;
+    };
+    {
+        const auto w = validateScene(sceneWith(0.0f, {}, MaterialType::Glass, false));
+        ASSERT_EQ(w.size(), 1u);
+        EXPECT_TRUE(mentions(w, "cube", "floor")) << w[0];
+        EXPECT_NE(w[0].find("y = 0"), std::string::npos) << w[0];
+    }
+    // Lifted well past the tracer's offset: nothing. Within it: still the same plane.
+    EXPECT_TRUE(validateScene(sceneWith(0.01f, {}, MaterialType::Glass, false)).empty());
+    EXPECT_EQ(validateScene(sceneWith(1e-6f, {}, MaterialType::Glass, false)).size(), 1u);
+    // A mirror is never entered; glass beside the floor, in its plane but off it, touches nothing.
+    EXPECT_TRUE(validateScene(sceneWith(0.0f, {}, MaterialType::Mirror, false)).empty());
+    EXPECT_TRUE(validateScene(sceneWith(0.0f, {6.0f, 0.0f, 0.0f}, MaterialType::Glass, false)).empty());
+    // Against a wall (its face at x = 2, the cube's side at x = 2) as well as on the floor.
+    {
+        const auto w = validateScene(sceneWith(0.0f, {1.5f, 0.0f, 0.0f}, MaterialType::Glass, true));
+        EXPECT_EQ(w.size(), 2u);
+        EXPECT_TRUE(mentions(w, "cube", "wall"));
+        EXPECT_TRUE(mentions(w, "cube", "floor"));
+    }
+    // A glass sphere resting on the floor touches it at a point: its pole's few triangles
+    // (512 × 256: the first ring 4e-5 above the floor, inside the tracer's offset) in the plane
+    // are under the 1 % the check lets be.
+    {
+        Scene s = sceneWith(0.0f, {6.0f, 0.0f, 0.0f}, MaterialType::Glass, false);
+        Material glass;
+        glass.type = MaterialType::Glass;
+        s.addObject("ball", s.addMesh(makeSphere(0.5f, 512, 256)), s.addMaterial(glass),
+                    glm::translate(glm::mat4(1.0f), {0.0f, 0.5f, 0.0f}));
+        EXPECT_TRUE(validateScene(s).empty()) << validateScene(s)[0];
+    }
+    // raycore's chess set before 2026-11-28: every piece on the board.
+    {
+        Scene s = makeBuiltinScene("chess");
+        for (Object& o : s.objects)
+            if (o.name.rfind("white_", 0) == 0 || o.name.rfind("black_", 0) == 0)
+                o.transform = glm::translate(glm::mat4(1.0f), {0.0f, -kChessRestGap, 0.0f}) * o.transform;
+        const auto w = validateScene(s);
+        EXPECT_EQ(w.size(), 32u);
+        EXPECT_TRUE(mentions(w, "white_pawn0", "board"));
+    }
 }
 
 TEST(Shapes, RoomFacesPointInwards) {
