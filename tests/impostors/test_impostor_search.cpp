@@ -200,6 +200,32 @@ TEST(ImpostorSearch, ReadsThreeTexelsPlusOnePerIteration) {
     }
 }
 
+// Rays from a sphere of radius 2 about the origin, aimed into a box of half size `spread`
+// (seeded): the ray, its analytic entry into the sphere of `radius` about the origin (the
+// entry exists when disc > 0) and its closest approach to the centre.
+struct SphereRay {
+    glm::vec3 o, d;
+    float entry, disc, closest;
+};
+std::vector<SphereRay> sphereRays(float radius, float spread, unsigned seed, int n) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> g;
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::vector<SphereRay> rays;
+    for (int i = 0; i < n; ++i) {
+        SphereRay r;
+        r.o = glm::normalize(glm::vec3(g(rng), g(rng), g(rng))) * 2.0f;
+        const glm::vec3 aim(u(rng) * spread, u(rng) * spread, u(rng) * spread);
+        r.d = glm::normalize(aim - r.o);
+        const float b = glm::dot(r.o, r.d), c = glm::dot(r.o, r.o) - radius * radius;
+        r.disc = b * b - c;
+        r.entry = -b - std::sqrt(std::max(0.0f, r.disc));
+        r.closest = std::sqrt(std::max(0.0f, glm::dot(r.o, r.o) - b * b));
+        rays.push_back(r);
+    }
+    return rays;
+}
+
 // Figure 4: from outside, through the bounding box's far point, the reversed ray; hits of a
 // sphere found within a texel of the analytic entry, misses rejected by the ε test. Rays
 // that pass near the silhouette (within 2ε) are excused.
@@ -208,28 +234,20 @@ TEST(ImpostorSearch, OutsideSearchFindsTheEntryAndRejectsMisses) {
     const SphereMap m({0.0f, 0.0f, 0.0f}, radius, 256);
     const float lo[3] = {-radius, -radius, -radius}, hi[3] = {radius, radius, radius};
     const float eps = 0.015f;
-    std::mt19937 rng(3);
-    std::normal_distribution<float> g;
-    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     int count = 0;
     const Fetch fetch{&m, &count};
-    int hits = 0, misses = 0, checked = 0;
-    for (int i = 0; i < 2000; ++i) {
-        const glm::vec3 o = glm::normalize(glm::vec3(g(rng), g(rng), g(rng))) * 2.0f;
-        const glm::vec3 aim(u(rng) * 0.7f, u(rng) * 0.7f, u(rng) * 0.7f);
-        const glm::vec3 d = glm::normalize(aim - o);
-        // The analytic entry and the ray's closest approach to the centre.
-        const float b = glm::dot(o, d), c = glm::dot(o, o) - radius * radius, disc = b * b - c;
-        const float closest = std::sqrt(std::max(0.0f, glm::dot(o, o) - b * b));
-        if (std::fabs(closest - radius) < 2 * eps) continue;
+    int hits = 0, misses = 0, checked = 0, i = 0;
+    for (const SphereRay& r : sphereRays(radius, 0.7f, 3, 2000)) {
+        ++i;
+        if (std::fabs(r.closest - radius) < 2 * eps) continue;
         ++checked;
-        const OutsideHit<float, bool> h = outsideSearch(V3(o.x, o.y, o.z), V3(d.x, d.y, d.z), lo, hi, eps, 8, true, fetch);
-        if (disc > 0) {
+        const OutsideHit<float, bool> h = outsideSearch(V3(r.o.x, r.o.y, r.o.z), V3(r.d.x, r.d.y, r.d.z), lo, hi, eps, 8, true, fetch);
+        if (r.disc > 0) {
             ASSERT_TRUE(h.valid) << "ray " << i << " hits the sphere";
-            EXPECT_NEAR(h.t, -b - std::sqrt(disc), 0.01f) << "ray " << i;
+            EXPECT_NEAR(h.t, r.entry, 0.01f) << "ray " << i;
             ++hits;
         } else {
-            EXPECT_FALSE(h.valid) << "ray " << i << " misses the sphere by " << closest - radius;
+            EXPECT_FALSE(h.valid) << "ray " << i << " misses the sphere by " << r.closest - radius;
             ++misses;
         }
     }
@@ -247,38 +265,31 @@ TEST(ImpostorSearch, LinearFirstOutsideSearchFindsTheEntryAndRejectsMisses) {
     const SphereMap m({0.0f, 0.0f, 0.0f}, radius, 256);
     const float lo[3] = {-radius, -radius, -radius}, hi[3] = {radius, radius, radius};
     const float eps = 0.015f;
-    std::mt19937 rng(5);
-    std::normal_distribution<float> g;
-    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    int hits = 0, misses = 0, boxMisses = 0;
-    for (int i = 0; i < 2000; ++i) {
-        const glm::vec3 o = glm::normalize(glm::vec3(g(rng), g(rng), g(rng))) * 2.0f;
-        const glm::vec3 aim(u(rng) * 0.8f, u(rng) * 0.8f, u(rng) * 0.8f);
-        const glm::vec3 d = glm::normalize(aim - o);
-        const float b = glm::dot(o, d), c = glm::dot(o, o) - radius * radius, disc = b * b - c;
-        const float closest = std::sqrt(std::max(0.0f, glm::dot(o, o) - b * b));
+    int hits = 0, misses = 0, boxMisses = 0, i = 0;
+    for (const SphereRay& r : sphereRays(radius, 0.8f, 5, 2000)) {
+        ++i;
         // Rays within 2ε of the silhouette are excused, and so are rays whose chord is shorter
         // than the samples' spacing could see (16 samples over the box's span ≥ the chord).
-        if (std::fabs(closest - radius) < 2 * eps) continue;
-        if (disc > 0 && 2.0f * std::sqrt(disc) < 2.0f * std::sqrt(3.0f) * radius / 16.0f) continue;
+        if (std::fabs(r.closest - radius) < 2 * eps) continue;
+        if (r.disc > 0 && 2.0f * std::sqrt(r.disc) < 2.0f * std::sqrt(3.0f) * radius / 16.0f) continue;
         int count = 0;
         const Fetch fetch{&m, &count};
         const OutsideHit<float, bool> h =
-            outsideSearchLinearFirst(V3(o.x, o.y, o.z), V3(d.x, d.y, d.z), lo, hi, eps, 16, 8, fetch);
+            outsideSearchLinearFirst(V3(r.o.x, r.o.y, r.o.z), V3(r.d.x, r.d.y, r.d.z), lo, hi, eps, 16, 8, fetch);
         if (!h.boxHit) {
             EXPECT_EQ(count, 0);
             EXPECT_FALSE(h.valid);
             ++boxMisses;
             continue;
         }
-        if (disc > 0) {
+        if (r.disc > 0) {
             ASSERT_TRUE(h.valid) << "ray " << i << " hits the sphere";
-            EXPECT_NEAR(h.t, -b - std::sqrt(disc), 0.01f) << "ray " << i;
+            EXPECT_NEAR(h.t, r.entry, 0.01f) << "ray " << i;
             EXPECT_GE(count, 16 + 8);
             EXPECT_LE(count, 16 + 8 + 1);
             ++hits;
         } else {
-            EXPECT_FALSE(h.valid) << "ray " << i << " misses the sphere by " << closest - radius;
+            EXPECT_FALSE(h.valid) << "ray " << i << " misses the sphere by " << r.closest - radius;
             EXPECT_EQ(count, 16) << "no sample inside: no secant step";
             ++misses;
         }
