@@ -1856,6 +1856,14 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
        << "- **DEPTH** " << S.depth << ", in place (Gauss–Seidel in scene order): a map later in the order already "
           "sees this iteration's maps.\n"
        << "- **§4.1's ε**: 3 % of the object's half diagonal.\n"
+       << "- **The reference**: raycore's Whitted tracer at depth " << S.referenceDepth
+       << " (a path cut there is black; on the chess view depth 24 is within 1/255 of depth 32 at 99.96 % of the "
+          "pixels, depth 8 at 98 %)"
+       << (builtIn ? std::string("; the pieces rest ") + num(double(ray::kChessRestGap), 2) +
+                         " squares above the board, their bases glass–air faces (the paper's stand on it; a base in the "
+                         "board's plane leaves the tracer no defined closest hit)"
+                   : std::string())
+       << ".\n"
        << "- **Fresnel**: Schlick with F0 = ((η − 1)/(η + 1))² = 0.04; total internal reflection at the exit "
           "reflects and reads the environment along the reflected ray.\n"
        << "- **The mover's impostor** holds the board, the sky and the static objects through their static "
