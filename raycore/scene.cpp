@@ -30,71 +30,91 @@ int findByName(const V& v, const std::string& name) {
 void warnGlassInContact(const Scene& scene, const std::vector<Bounds>& placed, const Bounds& all,
                         const std::string& where, std::vector<std::string>& warnings) {
     const float unit = 1e-5f * std::max(glm::length(all.hi - all.lo), 1.0f);
-    auto worldOf = [&](size_t i) {
-        const Object& o = scene.objects[i];
-        std::vector<glm::vec3> w;
-        w.reserve(scene.meshes[o.mesh].positions.size());
-        for (const glm::vec3& p : scene.meshes[o.mesh].positions) w.push_back(glm::vec3(o.transform * glm::vec4(p, 1.0f)));
+    // Each object's positions in world space, made once and only for the objects a glass
+    // object's box meets.
+    std::vector<std::vector<glm::vec3>> world(scene.objects.size());
+    auto worldOf = [&](size_t i) -> const std::vector<glm::vec3>& {
+        std::vector<glm::vec3>& w = world[i];
+        if (w.empty()) {
+            const Object& o = scene.objects[i];
+            w.reserve(scene.meshes[o.mesh].positions.size());
+            for (const glm::vec3& p : scene.meshes[o.mesh].positions)
+                w.push_back(glm::vec3(o.transform * glm::vec4(p, 1.0f)));
+        }
         return w;
+    };
+    // A glass object's flat face on one side of its box: its triangles within `tol` of the
+    // plane `c` facing out of the box, their extent in the plane and their area.
+    struct Face {
+        float c = 0.0f, tol = 0.0f;
+        glm::vec2 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+        double area = 0.0;
+        bool shows = false;  // a face, at least 1 % of the box's
+    };
+    auto inPlane = [](const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, int axis, float c, float t) {
+        return std::fabs(p0[axis] - c) <= t && std::fabs(p1[axis] - c) <= t && std::fabs(p2[axis] - c) <= t;
     };
     static const char* kAxis = "xyz";
     for (size_t g = 0; g < scene.objects.size(); ++g) {
         if (scene.materials[scene.objects[g].material].type != MaterialType::Glass) continue;
         const Mesh& gm = scene.meshes[scene.objects[g].mesh];
-        std::vector<glm::vec3> gw;  // made on the first pair whose boxes meet
-        std::vector<bool> warned(scene.objects.size(), false);
+        const Bounds& a = placed[g];
+        const float pad = unit * (1.0f + std::max({glm::abs(a.lo).x, glm::abs(a.lo).y, glm::abs(a.lo).z,
+                                                   glm::abs(a.hi).x, glm::abs(a.hi).y, glm::abs(a.hi).z}));
+        Face faces[3][2];
+        bool facesMade = false;  // on the first object whose box meets this one's
         for (size_t o = 0; o < scene.objects.size(); ++o) {
             if (o == g) continue;
-            const Bounds& a = placed[g];
             const Bounds& b = placed[o];
-            const float pad = unit * (1.0f + std::max({glm::abs(a.lo).x, glm::abs(a.lo).y, glm::abs(a.lo).z,
-                                                       glm::abs(a.hi).x, glm::abs(a.hi).y, glm::abs(a.hi).z}));
             if (glm::any(glm::greaterThan(a.lo - pad, b.hi)) || glm::any(glm::greaterThan(b.lo - pad, a.hi))) continue;
-            if (gw.empty()) gw = worldOf(g);
-            const std::vector<glm::vec3> ow = worldOf(o);
-            const Mesh& om = scene.meshes[scene.objects[o].mesh];
-            for (int axis = 0; axis < 3 && !warned[o]; ++axis)
-                for (int side = 0; side < 2 && !warned[o]; ++side) {
-                    const float c = side == 0 ? a.lo[axis] : a.hi[axis];
-                    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-                    // The glass face: its triangles in the plane, facing out of the box.
-                    glm::vec2 flo(std::numeric_limits<float>::infinity()), fhi(-std::numeric_limits<float>::infinity());
-                    float tol = 0.0f;
-                    double area = 0.0;  // of the glass face's triangles in the plane
-                    auto inPlane = [&](const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, float t) {
-                        return std::fabs(p0[axis] - c) <= t && std::fabs(p1[axis] - c) <= t && std::fabs(p2[axis] - c) <= t;
-                    };
-                    for (size_t t = 0; t + 2 < gm.indices.size(); t += 3) {
-                        const glm::vec3 &p0 = gw[gm.indices[t]], &p1 = gw[gm.indices[t + 1]], &p2 = gw[gm.indices[t + 2]];
-                        const float local = unit * (1.0f + std::max({glm::abs(p0)[u], glm::abs(p0)[v], std::fabs(c)}));
-                        if (!inPlane(p0, p1, p2, local)) continue;
-                        const float n = glm::cross(p1 - p0, p2 - p0)[axis];
-                        if (side == 0 ? !(n < 0.0f) : !(n > 0.0f)) continue;
-                        for (const glm::vec3* p : {&p0, &p1, &p2}) {
-                            flo = glm::min(flo, glm::vec2((*p)[u], (*p)[v]));
-                            fhi = glm::max(fhi, glm::vec2((*p)[u], (*p)[v]));
+            if (!facesMade) {
+                facesMade = true;
+                const std::vector<glm::vec3>& gw = worldOf(g);
+                for (int axis = 0; axis < 3; ++axis)
+                    for (int side = 0; side < 2; ++side) {
+                        Face& f = faces[axis][side];
+                        f.c = side == 0 ? a.lo[axis] : a.hi[axis];
+                        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                        for (size_t t = 0; t + 2 < gm.indices.size(); t += 3) {
+                            const glm::vec3 &p0 = gw[gm.indices[t]], &p1 = gw[gm.indices[t + 1]], &p2 = gw[gm.indices[t + 2]];
+                            const float local = unit * (1.0f + std::max({glm::abs(p0)[u], glm::abs(p0)[v], std::fabs(f.c)}));
+                            if (!inPlane(p0, p1, p2, axis, f.c, local)) continue;
+                            const float n = glm::cross(p1 - p0, p2 - p0)[axis];
+                            if (side == 0 ? !(n < 0.0f) : !(n > 0.0f)) continue;
+                            for (const glm::vec3* p : {&p0, &p1, &p2}) {
+                                f.lo = glm::min(f.lo, glm::vec2((*p)[u], (*p)[v]));
+                                f.hi = glm::max(f.hi, glm::vec2((*p)[u], (*p)[v]));
+                            }
+                            f.tol = std::max(f.tol, local);
+                            f.area += 0.5 * double(std::fabs(n));
                         }
-                        tol = std::max(tol, local);
-                        area += 0.5 * double(std::fabs(n));
+                        // Too small to show: under 1 % of the box's face (a sphere's pole, the
+                        // Newell teapot's rim on the floor: 0.4 %).
+                        const double boxFace = double(a.hi[u] - a.lo[u]) * double(a.hi[v] - a.lo[v]);
+                        f.shows = f.lo.x <= f.hi.x && f.area >= 0.01 * boxFace;
                     }
-                    // No flat face on this side, or one too small to show: under 1 % of the box's
-                    // face (a sphere's pole, the Newell teapot's rim on the floor: 0.4 %).
-                    const double boxFace = double(a.hi[u] - a.lo[u]) * double(a.hi[v] - a.lo[v]);
-                    if (!(flo.x <= fhi.x) || area < 0.01 * boxFace) continue;
+            }
+            const std::vector<glm::vec3>& ow = worldOf(o);
+            const Mesh& om = scene.meshes[scene.objects[o].mesh];
+            bool warned = false;
+            for (int axis = 0; axis < 3 && !warned; ++axis)
+                for (int side = 0; side < 2 && !warned; ++side) {
+                    const Face& f = faces[axis][side];
+                    if (!f.shows) continue;
+                    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
                     // The other object's triangles in the same plane, facing the glass.
                     for (size_t t = 0; t + 2 < om.indices.size(); t += 3) {
                         const glm::vec3 &p0 = ow[om.indices[t]], &p1 = ow[om.indices[t + 1]], &p2 = ow[om.indices[t + 2]];
-                        if (!inPlane(p0, p1, p2, tol)) continue;
+                        if (!inPlane(p0, p1, p2, axis, f.c, f.tol)) continue;
                         const float n = glm::cross(p1 - p0, p2 - p0)[axis];
                         if (side == 0 ? !(n > 0.0f) : !(n < 0.0f)) continue;
                         const glm::vec2 tlo = glm::min(glm::min(glm::vec2(p0[u], p0[v]), glm::vec2(p1[u], p1[v])), glm::vec2(p2[u], p2[v]));
                         const glm::vec2 thi = glm::max(glm::max(glm::vec2(p0[u], p0[v]), glm::vec2(p1[u], p1[v])), glm::vec2(p2[u], p2[v]));
-                        if (tlo.x >= fhi.x || tlo.y >= fhi.y || flo.x >= thi.x || flo.y >= thi.y) continue;
-                        char plane[64];
-                        std::snprintf(plane, sizeof plane, "%c = %g", kAxis[axis], double(c));
-                        char gap[32], areaText[32];
-                        std::snprintf(gap, sizeof gap, "%.2g", double(tol));
-                        std::snprintf(areaText, sizeof areaText, "%.3g", area);
+                        if (tlo.x >= f.hi.x || tlo.y >= f.hi.y || f.lo.x >= thi.x || f.lo.y >= thi.y) continue;
+                        char plane[64], gap[32], areaText[32];
+                        std::snprintf(plane, sizeof plane, "%c = %g", kAxis[axis], double(f.c));
+                        std::snprintf(gap, sizeof gap, "%.2g", double(f.tol));
+                        std::snprintf(areaText, sizeof areaText, "%.3g", f.area);
                         warnings.push_back(where + ": glass object '" + scene.objects[g].name + "' has a flat face of area " +
                                            areaText + " in the plane of '" + scene.objects[o].name + "' (" + plane +
                                            ", within the tracer's ray offset " + gap +
@@ -102,7 +122,7 @@ void warnGlassInContact(const Scene& scene, const std::vector<Bounds>& placed, c
                                            "and the tracer takes either, pixel by pixel (a glass chess piece on its board "
                                            "came out black and speckled); leave a gap of a few times " + gap +
                                            " (docs/scene-format.md)");
-                        warned[o] = true;
+                        warned = true;
                         break;
                     }
                 }

@@ -57,7 +57,7 @@ class ImpostorTechnique final : public demos::Technique {
         ray::RenderOptions ro;
         ro.width = options_.width;
         ro.height = options_.height;
-        ro.maxDepth = ImpostorReproduceSettings{}.referenceDepth;  // the reproduction's reference
+        ro.maxDepth = kReferenceDepth;  // the reproduction's reference
         ro.threads = options_.threads;
         demos::GroundTruth g;
         g.image = ray::renderWhitted(accel, camera, ro);
