@@ -36,6 +36,7 @@ struct GlassHeightFP {
     // The diagnostic variants render the report's analysis frames, never a timed one: the
     // SSE2 kernel (programmable_device.h, kWideKernel), which halves these kernels' compile.
     static constexpr bool kWideKernel = !kDiagnostics;
+    static constexpr bool kLaneIndependent = true;  // explicit-λ fetches only, as GlassFP
     HeightGlassConstants h;
     template <class Q>
     void operator()(Q& q) const {

@@ -233,6 +233,9 @@ struct GlassFP {
     // The diagnostic variants render the report's analysis frames, never a timed one: the
     // SSE2 kernel (programmable_device.h, kWideKernel), which halves these kernels' compile.
     static constexpr bool kWideKernel = !kDiagnostics;
+    // Explicit-λ fetches only: the fast path may fill a quad with pixels of several of the
+    // pieces' one- or two-pixel triangles (programmable_device.h, kLaneIndependent).
+    static constexpr bool kLaneIndependent = true;
     GlassConstants k;
     template <class Q>
     void operator()(Q& q) const {
@@ -278,6 +281,7 @@ struct GridFP {
     static constexpr uint32_t kTargets = 0b1;
     static constexpr uint32_t kUnits = 0xFFF;
     static constexpr bool kWritesDepth = false;
+    static constexpr bool kLaneIndependent = true;  // explicit-λ fetches only, as GlassFP
     GridConstants g;
     template <class Q>
     void operator()(Q& q) const {

@@ -2,6 +2,10 @@
 // depth compare, points, counters, errors, and the reference/fast agreement.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <bit>
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -886,6 +890,138 @@ TEST(ProgrammablePathsAgree, GroupProgramEqualsItsScalarTwinWithDepth) {
                 EXPECT_EQ(c.fragmentsDiscarded, ref.fragmentsDiscarded);
             }
     }
+}
+
+// A program whose lanes never read one another (kLaneIndependent, programmable_device.h):
+// the fast path may fill a quad with the pixels of several triangles. The same body twice,
+// declared and not; each writes what a fused lane could get wrong — the varyings, 1/w
+// (fragCoord.w), window z (fragCoord.z, and the depth test and writes) — and counts, on
+// the group contexts, the calls and their live lanes.
+struct FusionCounts {
+    std::atomic<uint64_t> calls{0}, lanes{0};
+};
+template <bool kFuse>
+struct FusionFP {
+    static constexpr int kVaryings = 2;
+    static constexpr uint32_t kTargets = 3;
+    static constexpr uint32_t kUnits = 1;
+    static constexpr bool kWritesDepth = false;
+    static constexpr bool kLaneIndependent = kFuse;
+    FusionCounts* counts = nullptr;
+    template <class Q>
+    void operator()(Q& q) const {
+        using F = typename Q::Float;
+        using V4 = typename Q::Vec4;
+        if constexpr (requires { Q::kQuads; }) {
+            counts->calls.fetch_add(1, std::memory_order_relaxed);
+            counts->lanes.fetch_add(uint64_t(std::popcount(q.active().bits())), std::memory_order_relaxed);
+        }
+        const V4 a = q.varying(0), b = q.varying(1), fc = q.fragCoord();
+        q.discard(a.w > F(0.9f));
+        const V4 c = q.sampleLevel(0, V4(a.x, a.y, b.x, F(0.0f)), F(0.0f));
+        q.output(0, V4(a.x + c.x, b.y * c.w, fc.z, fc.w));
+        q.output(1, V4(c.y, b.z, a.z, F(1.0f)));
+    }
+};
+
+// Meshes like the chess pieces' at 600²: a jittered grid of cells about 1.4 pixels wide, two
+// triangles a cell sharing their vertices (so a quad's pixels are covered by several
+// triangles, each pixel once), in perspective, with a second such mesh crossing the first in
+// depth (pixels covered twice: the later quad must wait for the pending one), depth test
+// and writes on. Fused or not, on either kernel and any thread count, the bytes and the
+// counters are the reference path's; fused, a call shades more live lanes.
+TEST(ProgrammablePathsAgree, LaneIndependentProgramsFuseQuadsOfTinyTriangles) {
+    const int W = 83, H = 61;
+    std::mt19937 rng(777);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Fixture fx;
+    auto cube = randomFloatTexture(fx, rng, u, TexelFormat::RGBA32F, TextureTarget::CubeMap, 8, 8, 13);
+    tex::SamplerState point;
+    point.magFilter = point.minFilter = tex::FilterMode::Nearest;
+    std::vector<RandomVertex> verts;
+    auto mesh = [&](float z0, float z1, float x0, float x1, float y0, float y1, int n, int m) {
+        std::vector<RandomVertex> grid;
+        for (int j = 0; j <= m; ++j)
+            for (int i = 0; i <= n; ++i) {
+                const float px = x0 + (x1 - x0) * (float(i) + (i > 0 && i < n ? 0.3f * (u(rng) - 0.5f) : 0.0f)) / float(n);
+                const float py = y0 + (y1 - y0) * (float(j) + (j > 0 && j < m ? 0.3f * (u(rng) - 0.5f) : 0.0f)) / float(m);
+                const float w = 0.7f + 0.6f * float(i) / float(n);  // perspective: 1/w varies
+                const float z = z0 + (z1 - z0) * float(j) / float(m) + 0.05f * (u(rng) - 0.5f);
+                RandomVertex v;
+                v.position = glm::vec4(px * w, py * w, z * w, w);
+                v.a = glm::vec4(u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng), u(rng));
+                v.b = glm::vec4(u(rng) * 2 - 1, u(rng), u(rng), 1.0f);
+                grid.push_back(v);
+            }
+        auto at = [&](int i, int j) { return grid[size_t(j * (n + 1) + i)]; };
+        for (int j = 0; j < m; ++j)
+            for (int i = 0; i < n; ++i) {
+                const bool flip = (i + j) % 3 == 0;  // both diagonals
+                const RandomVertex p00 = at(i, j), p10 = at(i + 1, j), p01 = at(i, j + 1), p11 = at(i + 1, j + 1);
+                for (const RandomVertex& v : flip ? std::array{p00, p10, p11, p00, p11, p01}
+                                                   : std::array{p00, p10, p01, p10, p11, p01})
+                    verts.push_back(v);
+            }
+    };
+    mesh(-0.4f, 0.4f, -0.9f, 0.7f, -0.85f, 0.75f, 40, 30);
+    mesh(0.5f, -0.5f, -0.5f, 0.95f, -0.6f, 0.9f, 35, 35);
+    ProgramState st;
+    st.depthTest = 1;
+    st.depthWrite = 1;
+    st.depthFunc = CompareFunc::Less;
+    st.blend[1] = TargetBlend{1, BlendFactor::One, BlendFactor::One, BlendOp::Add, kWriteRGBA};
+    auto render = [&](bool fuse, Path path, int threads, ProgramCounters& counters, FusionCounts& fcount) {
+        auto t0 = fx.target(W, H, TexelFormat::RGBA32F);
+        auto t1 = fx.target(W, H, TexelFormat::RGBA8);
+        TextureDesc dd;
+        dd.format = TexelFormat::Depth24;
+        dd.width = W;
+        dd.height = H;
+        auto depth = fx.memory->createRenderTarget(dd);
+        ProgrammableDevice dev(g80(), DeviceOptions{path, threads});
+        ColorTarget cts[2] = {{t0}, {t1}};
+        dev.setRenderTargets(cts, DepthTarget{depth});
+        dev.setState(st);
+        dev.clearDepth(1.0f);
+        dev.setTexture(0, cube, point);
+        dev.beginFrame();
+        const std::span<const RandomVertex> v(verts);
+        if (fuse)
+            dev.draw(RandomVP{}, FusionFP<true>{&fcount}, ProgramPrimitive::TriangleList, v);
+        else
+            dev.draw(RandomVP{}, FusionFP<false>{&fcount}, ProgramPrimitive::TriangleList, v);
+        counters = dev.counters();
+        return hashTargets({t0, t1, depth}, W, H);
+    };
+    ProgramCounters ref, c;
+    FusionCounts none, plain, fused;
+    const std::string want = render(false, Path::Reference, 1, ref, none);
+    EXPECT_GT(ref.fragmentsDepthFailed, 100u) << "the second mesh must cross the first";
+    EXPECT_GT(ref.fragmentsDiscarded, 0u);
+    EXPECT_GT(ref.fragmentsWritten, 2000u);
+    for (bool fuse : {false, true})
+        for (int threads : {1, 3}) {
+            FusionCounts& fc = threads == 1 ? (fuse ? fused : plain) : none;
+            EXPECT_EQ(render(fuse, Path::Fast, threads, c, fc), want)
+                << (fuse ? "fused" : "not fused") << ", " << threads
+                << " threads; reproduce: build/bin/test_programmable --gtest_filter='*FuseQuads*'";
+            EXPECT_EQ(c.fragmentsGenerated, ref.fragmentsGenerated);
+            EXPECT_EQ(c.fragmentsDepthFailed, ref.fragmentsDepthFailed);
+            EXPECT_EQ(c.fragmentInvocations, ref.fragmentInvocations);
+            EXPECT_EQ(c.fragmentsWritten, ref.fragmentsWritten);
+            EXPECT_EQ(c.textureFetches, ref.textureFetches);
+            EXPECT_EQ(c.maxFetchesPerFragment, ref.maxFetchesPerFragment);
+            EXPECT_EQ(c.fragmentsDiscarded, ref.fragmentsDiscarded);
+        }
+    // Fusion happened: the same live lanes in fewer calls, each fuller. A quad of this mesh
+    // meets about two triangles, so unfused calls shade less than two thirds of their lanes.
+    ASSERT_GT(plain.calls.load(), 0u);
+    ASSERT_GT(fused.calls.load(), 0u);
+    EXPECT_EQ(fused.lanes.load(), plain.lanes.load());
+    const double plainFill = double(plain.lanes.load()) / double(plain.calls.load());
+    const double fusedFill = double(fused.lanes.load()) / double(fused.calls.load());
+    EXPECT_GT(fusedFill, 1.3 * plainFill) << "lanes per call: fused " << fusedFill << ", not fused " << plainFill;
+    std::printf("lanes per call: fused %.2f, not fused %.2f\n", fusedFill, plainFill);
 }
 
 // Fetch counts around a discard: a point-sampled fetch of every live lane, a discard that

@@ -179,26 +179,32 @@ inline void shadeFragment(const FP& fp, const ProgramDraw& d, const ProgramTrian
     ++c.fragmentsWritten;
 }
 
-// A quad program's quad before the program: the early depth test per covered lane; the
-// lanes that passed, and the context begun on them. zStore: what depth writes store.
-// Window z per pixel as shadeFragment computes it, (zc + zdx·fx) + zdy·fy in double, two
-// pixels of a row per SSE2 register (the same IEEE operations lane by lane).
-inline uint32_t beginQuadLanes(const ProgramDraw& d, const ProgramTriangle& t, const QuadVaryings& q,
-                               const std::array<float, 4>& iw, uint32_t mask, int qx, int qy,
-                               QuadContext& f, float (&zStore)[4], ProgramCounters& c) {
+// Window z at a quad's four pixels as shadeFragment computes it, (zc + zdx·fx) + zdy·fy in
+// double, two pixels of a row per SSE2 register (the same IEEE operations lane by lane).
+inline void quadDepths(const ProgramTriangle& t, int qx, int qy, double (&z)[4]) {
     const __m128d fx = _mm_sub_pd(_mm_setr_pd(double(qx) + 0.5, double(qx + 1) + 0.5), _mm_set1_pd(double(t.x0)));
     const __m128d zRow = _mm_add_pd(_mm_set1_pd(t.zc), _mm_mul_pd(_mm_set1_pd(t.zdx), fx));
     const double fy0 = (double(qy) + 0.5) - double(t.y0), fy1 = (double(qy + 1) + 0.5) - double(t.y0);
-    const __m128d z01 = _mm_add_pd(zRow, _mm_mul_pd(_mm_set1_pd(t.zdy), _mm_set1_pd(fy0)));
-    const __m128d z23 = _mm_add_pd(zRow, _mm_mul_pd(_mm_set1_pd(t.zdy), _mm_set1_pd(fy1)));
-    const __m128 zf = _mm_movelh_ps(_mm_cvtpd_ps(z01), _mm_cvtpd_ps(z23));
+    _mm_storeu_pd(z, _mm_add_pd(zRow, _mm_mul_pd(_mm_set1_pd(t.zdy), _mm_set1_pd(fy0))));
+    _mm_storeu_pd(z + 2, _mm_add_pd(zRow, _mm_mul_pd(_mm_set1_pd(t.zdy), _mm_set1_pd(fy1))));
+}
+
+// A pending quad's window z per pixel (a struct, so that arrays of them copy).
+struct QuadDepths {
+    double z[4];
+};
+
+// A quad program's quad before the program: the early depth test per covered lane; the
+// lanes that passed, and the context begun on them. zStore: what depth writes store. z:
+// each pixel's window z (quadDepths of the triangle that covers it).
+inline uint32_t beginQuadLanes(const ProgramDraw& d, const double (&z)[4], const QuadVaryings& q,
+                               const std::array<float, 4>& iw, uint32_t mask, int qx, int qy,
+                               QuadContext& f, float (&zStore)[4], ProgramCounters& c) {
+    const __m128 zf = _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(z)), _mm_cvtpd_ps(_mm_loadu_pd(z + 2)));
     uint32_t run = mask;
     c.fragmentsGenerated += uint32_t(std::popcount(mask));
     zStore[0] = zStore[1] = zStore[2] = zStore[3] = 0.0f;
     if (d.depthData) {
-        alignas(16) double z[4];
-        _mm_store_pd(z, z01);
-        _mm_store_pd(z + 2, z23);
         for (int p = 0; p < 4; ++p) {
             if (!((mask >> p) & 1u)) continue;
             const int px = qx + (p & 1), py = qy + (p >> 1);
@@ -216,6 +222,13 @@ inline uint32_t beginQuadLanes(const ProgramDraw& d, const ProgramTriangle& t, c
                    Float4(_mm_add_ps(y0, _mm_setr_ps(0.0f, 0.0f, 1.0f, 1.0f))), Float4(zf),
                    Float4(_mm_loadu_ps(iw.data()))));
     return run;
+}
+inline uint32_t beginQuadLanes(const ProgramDraw& d, const ProgramTriangle& t, const QuadVaryings& q,
+                               const std::array<float, 4>& iw, uint32_t mask, int qx, int qy,
+                               QuadContext& f, float (&zStore)[4], ProgramCounters& c) {
+    double z[4];
+    quadDepths(t, qx, qy, z);
+    return beginQuadLanes(d, z, q, iw, mask, qx, qy, f, zStore, c);
 }
 
 // RGBA8 without blending or write mask: tex::floatToRgba8 on four lanes — max(x, 0) also
@@ -321,13 +334,13 @@ inline void finishQuadLanes(const ProgramDraw& d, int qx, int qy, const QuadCont
 // The covered lanes `mask` of a quad through a quad program: the early depth test per
 // lane, the program once for the lanes that passed, then per lane what shadeFragment does
 // after the program. The counters are those of running the lanes one by one.
-template <class FP>
-inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const ProgramTriangle& t,
+template <class FP, class Depths>
+inline void shadeQuadLanes(const FP& fp, const ProgramDraw& d, const Depths& tOrZ,
                            const QuadVaryings& q, const std::array<float, 4>& iw, uint32_t mask,
                            int qx, int qy, QuadContext& f, ProgramCounters& c) {
     static_assert(!FP::kWritesDepth, "quad programs cannot write depth");
     float zStore[4];
-    if (!beginQuadLanes(d, t, q, iw, mask, qx, qy, f, zStore, c)) return;
+    if (!beginQuadLanes(d, tOrZ, q, iw, mask, qx, qy, f, zStore, c)) return;
     fp(f);
     finishQuadLanes(d, qx, qy, f, zStore, c);
 }
@@ -378,12 +391,30 @@ constexpr bool kWideKernel = [] {
         return true;
 }();
 
+// A program whose lanes never read one another: no derivative and no implicit-λ fetch (only
+// sampleLevel with an explicit λ, varyings, fragCoord, outputs), declared by
+// kLaneIndependent = true. Its fast path fills a quad's uncovered lanes with the pixels other
+// triangles cover at the same quad (ProgramKernel::runQuadGroups): each lane still computes
+// what it computes alone, from its own triangle's varyings, 1/w and z, so the bytes are the
+// reference path's (ProgrammablePathsAgree and the golden traces hold the programs that
+// declare it to that), while meshes of one- or two-pixel triangles, whose quads are a third
+// to a half covered, run far fewer quads. A program that declares it and takes a derivative
+// would read a neighbour of another triangle: only for programs that cannot.
+template <class FP>
+constexpr bool kLaneIndependent = [] {
+    if constexpr (requires { FP::kLaneIndependent; })
+        return bool(FP::kLaneIndependent);
+    else
+        return false;
+}();
+
 // The quads of a group through the program at once: what shadeQuadLanes does to each, in
 // the same order for everything outside the program (the quads' pixels are distinct, so
 // early tests before the other quads' depth writes see the same values). Quad i belongs
-// to triangle *ts[i]: a group may gather the quads of several small triangles.
+// to the triangles whose pixels' window z are zs[i]: a group may gather the quads of several
+// small triangles (and a quad the pixels of several, kLaneIndependent).
 template <class FP, int N, class Group>
-inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const std::array<const ProgramTriangle*, N>& ts,
+inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const std::array<QuadDepths, N>& zs,
                            const std::array<QuadVaryings, N>& q, const std::array<std::array<float, 4>, N>& iw,
                            const std::array<uint32_t, N>& mask, const std::array<int, N>& qx,
                            const std::array<int, N>& qy, Group& g, ProgramCounters& c) {
@@ -391,7 +422,7 @@ inline void shadeQuadGroup(const FP& fp, const ProgramDraw& d, const std::array<
     float zStore[N][4];
     uint32_t run = 0;
     for (int i = 0; i < N; ++i)
-        run |= beginQuadLanes(d, *ts[size_t(i)], q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qx[size_t(i)],
+        run |= beginQuadLanes(d, zs[size_t(i)].z, q[size_t(i)], iw[size_t(i)], mask[size_t(i)], qx[size_t(i)],
                               qy[size_t(i)], g.quad(i), zStore[i], c);
     if (!run) return;
     g.beginGroup();
@@ -531,15 +562,15 @@ struct ProgramKernel {
         std::array<std::array<float, 4>, N> iw;
         std::array<uint32_t, N> mask{};
         std::array<int, N> qxs{}, qys{};
-        std::array<const ProgramTriangle*, N> ts{};
+        std::array<QuadDepths, N> zs{};
         Group g;
         int pending = 0;
         auto runPending = [&] {
             if constexpr (kWide)
-                shadeQuadPairs<N>(*k.fp, d, ts, q, iw, mask, qxs, qys, pending, c);
+                shadeQuadPairs<N>(*k.fp, d, zs, q, iw, mask, qxs, qys, pending, c);
             else
                 for (int i = 0; i < pending; ++i)
-                    shadeQuadLanes(*k.fp, d, *ts[size_t(i)], q[size_t(i)], iw[size_t(i)], mask[size_t(i)],
+                    shadeQuadLanes(*k.fp, d, zs[size_t(i)].z, q[size_t(i)], iw[size_t(i)], mask[size_t(i)],
                                    qxs[size_t(i)], qys[size_t(i)], g.quad(i), c);
             pending = 0;
         };
@@ -608,19 +639,31 @@ struct ProgramKernel {
                     }
                     m &= rows & ((qx >= x0 ? 5u : 0u) | (qx + 1 <= x1 ? 10u : 0u));
                     if (!m) continue;
-                    for (int i = 0; i < earlier; ++i)
-                        if (qxs[size_t(i)] == qx && qys[size_t(i)] == qy && (mask[size_t(i)] & m)) {
+                    [[maybe_unused]] int fuse = -1;  // a pending quad at this position whose lanes m are free
+                    for (int i = 0; i < earlier; ++i) {
+                        if (qxs[size_t(i)] != qx || qys[size_t(i)] != qy) continue;
+                        if (mask[size_t(i)] & m) {
                             runPending();
                             earlier = 0;
+                            fuse = -1;
                             break;
                         }
+                        fuse = i;
+                    }
+                    if constexpr (kLaneIndependent<FP>) {
+                        if (fuse >= 0) {
+                            fuseQuad(d, t, qx, qy, m, q[size_t(fuse)], iw[size_t(fuse)], zs[size_t(fuse)]);
+                            mask[size_t(fuse)] |= m;
+                            continue;
+                        }
+                    }
                     interpolateQuad(d, t, qx, qy, q[size_t(pending)], iw[size_t(pending)]);
+                    quadDepths(t, qx, qy, zs[size_t(pending)].z);
                     mask[size_t(pending)] = m;
                     qxs[size_t(pending)] = qx;
                     qys[size_t(pending)] = qy;
-                    ts[size_t(pending)] = &t;
                     if (++pending == N) {
-                        shadeQuadGroup<FP, N, Group>(*k.fp, d, ts, q, iw, mask, qxs, qys, g, c);
+                        shadeQuadGroup<FP, N, Group>(*k.fp, d, zs, q, iw, mask, qxs, qys, g, c);
                         pending = 0;
                         earlier = 0;
                     }
@@ -631,6 +674,25 @@ struct ProgramKernel {
         counters.add(c);
     }
 
+    // kLaneIndependent: the pixels `m` of triangle t's quad at (qx, qy) into a pending quad
+    // at the same position whose lanes m are uncovered — their varyings, 1/w and window z
+    // from t, computed as interpolateQuad and quadDepths compute them for t's own quad.
+    static void fuseQuad(const ProgramDraw& d, const ProgramTriangle& t, int qx, int qy, uint32_t m,
+                         QuadVaryings& q, std::array<float, 4>& iw, QuadDepths& z) {
+        QuadVaryings tq;
+        std::array<float, 4> tiw;
+        double tz[4];
+        interpolateQuad(d, t, qx, qy, tq, tiw);
+        quadDepths(t, qx, qy, tz);
+        for (int p = 0; p < 4; ++p) {
+            if (!((m >> p) & 1u)) continue;
+            for (int a = 0; a < d.varyings; ++a) q.v[size_t(a)][size_t(p)] = tq.v[size_t(a)][size_t(p)];
+            if (d.points) q.v[kMaxVaryings][size_t(p)] = tq.v[kMaxVaryings][size_t(p)];
+            iw[size_t(p)] = tiw[size_t(p)];
+            z.z[p] = tz[p];
+        }
+    }
+
     // The AVX2 kernel's last quads of a triangle, fewer than a group: two at a time in one
     // 256-bit register (QuadGroupWideContext<2>), the partner of an odd last quad empty —
     // covered by no lane, so it runs, fetches and writes nothing. Small triangles leave
@@ -639,7 +701,7 @@ struct ProgramKernel {
     // search is one chain of dependent steps. Each lane computes what it computes alone,
     // and the quads are distinct pixels of one triangle: the same bytes and counts.
     template <int N>
-    static void shadeQuadPairs(const FP& fp, const ProgramDraw& d, const std::array<const ProgramTriangle*, N>& ts,
+    static void shadeQuadPairs(const FP& fp, const ProgramDraw& d, const std::array<QuadDepths, N>& zs,
                                const std::array<QuadVaryings, N>& q, const std::array<std::array<float, 4>, N>& iw,
                                const std::array<uint32_t, N>& mask, const std::array<int, N>& qxs,
                                const std::array<int, N>& qys, int pending, ProgramCounters& c) {
@@ -651,8 +713,8 @@ struct ProgramKernel {
             const std::array<std::array<float, 4>, 2> iw2{iw[a], iw[b]};
             const std::array<uint32_t, 2> m2{mask[a], i + 1 < pending ? mask[b] : 0u};
             const std::array<int, 2> x2{qxs[a], qxs[b]}, y2{qys[a], qys[b]};
-            const std::array<const ProgramTriangle*, 2> t2{ts[a], ts[b]};
-            shadeQuadGroup<FP, 2, QuadGroupWideContext<2>>(fp, d, t2, q2, iw2, m2, x2, y2, pair, c);
+            const std::array<QuadDepths, 2> z2{zs[a], zs[b]};
+            shadeQuadGroup<FP, 2, QuadGroupWideContext<2>>(fp, d, z2, q2, iw2, m2, x2, y2, pair, c);
         }
     }
 
