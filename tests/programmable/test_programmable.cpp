@@ -1013,14 +1013,15 @@ TEST(ProgrammablePathsAgree, LaneIndependentProgramsFuseQuadsOfTinyTriangles) {
             EXPECT_EQ(c.maxFetchesPerFragment, ref.maxFetchesPerFragment);
             EXPECT_EQ(c.fragmentsDiscarded, ref.fragmentsDiscarded);
         }
-    // Fusion happened: the same live lanes in fewer calls, each fuller. A quad of this mesh
-    // meets about two triangles, so unfused calls shade less than two thirds of their lanes.
+    // Fusion happened: the same live lanes in about a third of the calls. Unfused, a quad of
+    // this mesh holds one triangle's part of it (8.9 of a call's 32 lanes on the AVX2 kernel,
+    // 4.5 of 16 on SSE2); fused, the pool fills it (27.9 and 14.1).
     ASSERT_GT(plain.calls.load(), 0u);
     ASSERT_GT(fused.calls.load(), 0u);
     EXPECT_EQ(fused.lanes.load(), plain.lanes.load());
     const double plainFill = double(plain.lanes.load()) / double(plain.calls.load());
     const double fusedFill = double(fused.lanes.load()) / double(fused.calls.load());
-    EXPECT_GT(fusedFill, 1.3 * plainFill) << "lanes per call: fused " << fusedFill << ", not fused " << plainFill;
+    EXPECT_GT(fusedFill, 2.5 * plainFill) << "lanes per call: fused " << fusedFill << ", not fused " << plainFill;
     std::printf("lanes per call: fused %.2f, not fused %.2f\n", fusedFill, plainFill);
 }
 

@@ -11,6 +11,7 @@
 // list. Both give the same bytes for any thread count (tests/programmable/).
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -364,6 +365,12 @@ bool programAvx2();
 // (ProgramKernel::shadeQuadPairs) and one by one on the SSE2 kernel.
 constexpr int kGroupQuads = 4;
 constexpr int kWideGroupQuads = 8;
+// kLaneIndependent programs (ProgramKernel::runFusedGroups): pending quads a tile run may
+// hold while other triangles fill their lanes, and the side of the rectangles it runs (a
+// tile's; the map holds their quad positions, one more each way for an odd start).
+constexpr int kFusionSlots = 64;
+constexpr int kFusionSide = 64;
+constexpr int kFusionMap = (kFusionSide / 2 + 1) * (kFusionSide / 2 + 1);
 
 // A quad program written for any context (a template on it) also runs kGroupQuads quads
 // at once on the fast path.
@@ -542,6 +549,76 @@ struct ProgramKernel {
         runQuadGroups<QuadGroupWideContext<kWideGroupQuads>>(k, tris, items, count, rx0, ry0, rx1, ry1, c);
     }
 
+    // The covered quads of triangle t inside the inclusive rectangle, row after row, as
+    // emit(qx, qy, m), bit p of m for pixel (qx + (p & 1), qy + (p >> 1)). Coverage steps the
+    // edge functions along each row of quads (the integers covers() computes, exactly).
+    template <bool kWide, class Emit>
+    [[gnu::always_inline]] static void forEachCoveredQuad(const ProgramDraw& d, const ProgramTriangle& t, int rx0,
+                                                          int ry0, int rx1, int ry1, Emit&& emit) {
+        const int x0 = std::max(rx0, t.minX), x1 = std::min(rx1, t.maxX);
+        const int y0 = std::max(ry0, t.minY), y1 = std::min(ry1, t.maxY);
+        if (x0 > x1 || y0 > y1) return;
+        const int s = d.subpixelBits;
+        const int64_t half = int64_t{1} << (s - 1);
+        // Edge e at the quad's pixel p: E + off[e][p]; E steps by 2·A per quad along a row.
+        int64_t off[3][4], stepX[3];
+        for (int e = 0; e < 3; ++e) {
+            const int64_t a = t.A[size_t(e)] << s, b = t.B[size_t(e)] << s;
+            off[e][0] = 0;
+            off[e][1] = a;
+            off[e][2] = b;
+            off[e][3] = a + b;
+            stepX[e] = 2 * a;
+        }
+        for (int qy = y0 & ~1; qy <= y1; qy += 2) {
+            const uint32_t rows = (qy >= y0 ? 3u : 0u) | (qy + 1 <= y1 ? 12u : 0u);
+            const int64_t Y = (int64_t(qy) << s) + half;
+            // The quads of the row that can be covered: an edge's largest value over a
+            // quad's pixels must be ≥ 0. In double with a quad's margin, so the range only
+            // skips quads the exact test below would reject.
+            int qxa = x0 & ~1, qxb = x1;
+            for (int e = 0; e < 3 && qxa <= qxb; ++e) {
+                const int64_t a = t.A[size_t(e)], b = t.B[size_t(e)];
+                const double rowBest = double(t.C[size_t(e)] + b * (Y + (b > 0 ? (int64_t{1} << s) : 0)));
+                if (a == 0) {
+                    if (rowBest < 0.0) qxa = qxb + 1;
+                    continue;
+                }
+                // Largest value at quad qx: rowBest + a·X(qx + (a > 0)), X(px) = (px << s) + half.
+                const double px = -(rowBest + double(a) * double(half)) / double(a * (int64_t{1} << s));
+                if (a > 0) {  // value grows with x: quads from x ≥ px − 1
+                    const double lo = std::floor(px) - 3.0;
+                    if (lo > double(qxa)) qxa = lo > double(qxb) ? qxb + 1 : int(lo) & ~1;
+                } else {  // quads up to px
+                    const double hi = std::ceil(px) + 3.0;
+                    if (hi < double(qxb)) qxb = hi < double(qxa) ? qxa - 1 : int(hi);
+                }
+            }
+            const int qx0 = qxa & ~1;
+            const int64_t X = (int64_t(qx0) << s) + half;
+            int64_t E[3];
+            for (int e = 0; e < 3; ++e) E[e] = t.C[size_t(e)] + t.A[size_t(e)] * X + t.B[size_t(e)] * Y;
+            int64_t Ep[3][4];  // the AVX2 kernel's form of E + off
+            if constexpr (kWide)
+                for (int e = 0; e < 3; ++e)
+                    for (int p = 0; p < 4; ++p) Ep[e][p] = E[e] + off[e][p];
+            for (int qx = qx0; qx <= qxb; qx += 2) {
+                uint32_t m = 0;
+                if constexpr (kWide) {
+                    m = quadCoverageStepAvx2(Ep, stepX);
+                } else {
+                    for (int p = 0; p < 4; ++p) {
+                        const int64_t all = (E[0] + off[0][p]) | (E[1] + off[1][p]) | (E[2] + off[2][p]);
+                        m |= uint32_t(all >= 0) << p;  // every edge ≥ 0
+                    }
+                    for (int e = 0; e < 3; ++e) E[e] += stepX[e];
+                }
+                m &= rows & ((qx >= x0 ? 5u : 0u) | (qx + 1 <= x1 ? 10u : 0u));
+                if (m) emit(qx, qy, m);
+            }
+        }
+    }
+
     // runTriangles for a group program: each triangle's covered quads in the same order,
     // kGroupQuads at a time, the groups gathered across the triangles — the chess pieces'
     // triangles cover a quad or two each, so groups of one triangle's quads were mostly
@@ -549,11 +626,27 @@ struct ProgramKernel {
     // overlapping triangle's) first runs the pending ones, so every pixel's fragments still
     // meet the depth test and the output merger in triangle order; a group's quads are then
     // always distinct pixels, as shadeQuadGroup needs. The last incomplete group runs quad
-    // by quad (SSE2) or in pairs (AVX2). Coverage steps the edge functions along each row
-    // of quads (the integers covers() computes, exactly), and the counters add up locally.
+    // by quad (SSE2) or in pairs (AVX2). The counters add up locally. kLaneIndependent
+    // programs take runFusedGroups instead.
     template <class Group = QuadGroupContext<kGroupQuads>>
     static void runQuadGroups(const ProgramKernel& k, const ProgramTriangle* tris, const uint32_t* items,
                               uint32_t count, int rx0, int ry0, int rx1, int ry1, ProgramCounters& counters) {
+        if constexpr (kLaneIndependent<FP>) {
+            // Rectangles of at most kFusionSide² pixels (a tile is one): disjoint pixels, so
+            // each keeps its pixels' triangle order by itself.
+            for (int y = ry0; y <= ry1; y += kFusionSide)
+                for (int x = rx0; x <= rx1; x += kFusionSide)
+                    runFusedGroups<Group>(k, tris, items, count, x, y, std::min(rx1, x + kFusionSide - 1),
+                                          std::min(ry1, y + kFusionSide - 1), counters);
+            return;
+        } else {
+            runUnfusedGroups<Group>(k, tris, items, count, rx0, ry0, rx1, ry1, counters);
+        }
+    }
+    // Only one of the two is instantiated for a program (each holds the program).
+    template <class Group>
+    static void runUnfusedGroups(const ProgramKernel& k, const ProgramTriangle* tris, const uint32_t* items,
+                                 uint32_t count, int rx0, int ry0, int rx1, int ry1, ProgramCounters& counters) {
         constexpr int N = Group::kQuads;
         constexpr bool kWide = std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>;
         const ProgramDraw& d = *k.d;
@@ -574,104 +667,190 @@ struct ProgramKernel {
                                    qxs[size_t(i)], qys[size_t(i)], g.quad(i), c);
             pending = 0;
         };
-        const int s = d.subpixelBits;
-        const int64_t half = int64_t{1} << (s - 1);
         for (uint32_t ti = 0; ti < count; ++ti) {
             const ProgramTriangle& t = tris[items ? items[ti] : ti];
-            const int x0 = std::max(rx0, t.minX), x1 = std::min(rx1, t.maxX);
-            const int y0 = std::max(ry0, t.minY), y1 = std::min(ry1, t.maxY);
-            if (x0 > x1 || y0 > y1) continue;
             // Pending quads of earlier triangles: [0, earlier). This triangle's own quads are
             // distinct and need no check.
             int earlier = pending;
-            // Edge e at the quad's pixel p: E + off[e][p]; E steps by 2·A per quad along a row.
-            int64_t off[3][4], stepX[3];
-            for (int e = 0; e < 3; ++e) {
-                const int64_t a = t.A[size_t(e)] << s, b = t.B[size_t(e)] << s;
-                off[e][0] = 0;
-                off[e][1] = a;
-                off[e][2] = b;
-                off[e][3] = a + b;
-                stepX[e] = 2 * a;
-            }
-            for (int qy = y0 & ~1; qy <= y1; qy += 2) {
-                const uint32_t rows = (qy >= y0 ? 3u : 0u) | (qy + 1 <= y1 ? 12u : 0u);
-                const int64_t Y = (int64_t(qy) << s) + half;
-                // The quads of the row that can be covered: an edge's largest value over a
-                // quad's pixels must be ≥ 0. In double with a quad's margin, so the range only
-                // skips quads the exact test below would reject.
-                int qxa = x0 & ~1, qxb = x1;
-                for (int e = 0; e < 3 && qxa <= qxb; ++e) {
-                    const int64_t a = t.A[size_t(e)], b = t.B[size_t(e)];
-                    const double rowBest = double(t.C[size_t(e)] + b * (Y + (b > 0 ? (int64_t{1} << s) : 0)));
-                    if (a == 0) {
-                        if (rowBest < 0.0) qxa = qxb + 1;
-                        continue;
-                    }
-                    // Largest value at quad qx: rowBest + a·X(qx + (a > 0)), X(px) = (px << s) + half.
-                    const double px = -(rowBest + double(a) * double(half)) / double(a * (int64_t{1} << s));
-                    if (a > 0) {  // value grows with x: quads from x ≥ px − 1
-                        const double lo = std::floor(px) - 3.0;
-                        if (lo > double(qxa)) qxa = lo > double(qxb) ? qxb + 1 : int(lo) & ~1;
-                    } else {  // quads up to px
-                        const double hi = std::ceil(px) + 3.0;
-                        if (hi < double(qxb)) qxb = hi < double(qxa) ? qxa - 1 : int(hi);
-                    }
-                }
-                const int qx0 = qxa & ~1;
-                const int64_t X = (int64_t(qx0) << s) + half;
-                int64_t E[3];
-                for (int e = 0; e < 3; ++e) E[e] = t.C[size_t(e)] + t.A[size_t(e)] * X + t.B[size_t(e)] * Y;
-                int64_t Ep[3][4];  // the AVX2 kernel's form of E + off
-                if constexpr (kWide)
-                    for (int e = 0; e < 3; ++e)
-                        for (int p = 0; p < 4; ++p) Ep[e][p] = E[e] + off[e][p];
-                for (int qx = qx0; qx <= qxb; qx += 2) {
-                    uint32_t m = 0;
-                    if constexpr (kWide) {
-                        m = quadCoverageStepAvx2(Ep, stepX);
-                    } else {
-                        for (int p = 0; p < 4; ++p) {
-                            const int64_t all = (E[0] + off[0][p]) | (E[1] + off[1][p]) | (E[2] + off[2][p]);
-                            m |= uint32_t(all >= 0) << p;  // every edge ≥ 0
-                        }
-                        for (int e = 0; e < 3; ++e) E[e] += stepX[e];
-                    }
-                    m &= rows & ((qx >= x0 ? 5u : 0u) | (qx + 1 <= x1 ? 10u : 0u));
-                    if (!m) continue;
-                    [[maybe_unused]] int fuse = -1;  // a pending quad at this position whose lanes m are free
-                    for (int i = 0; i < earlier; ++i) {
-                        if (qxs[size_t(i)] != qx || qys[size_t(i)] != qy) continue;
-                        if (mask[size_t(i)] & m) {
-                            runPending();
-                            earlier = 0;
-                            fuse = -1;
-                            break;
-                        }
-                        fuse = i;
-                    }
-                    if constexpr (kLaneIndependent<FP>) {
-                        if (fuse >= 0) {
-                            fuseQuad(d, t, qx, qy, m, q[size_t(fuse)], iw[size_t(fuse)], zs[size_t(fuse)]);
-                            mask[size_t(fuse)] |= m;
-                            continue;
-                        }
-                    }
-                    interpolateQuad(d, t, qx, qy, q[size_t(pending)], iw[size_t(pending)]);
-                    quadDepths(t, qx, qy, zs[size_t(pending)].z);
-                    mask[size_t(pending)] = m;
-                    qxs[size_t(pending)] = qx;
-                    qys[size_t(pending)] = qy;
-                    if (++pending == N) {
-                        shadeQuadGroup<FP, N, Group>(*k.fp, d, zs, q, iw, mask, qxs, qys, g, c);
-                        pending = 0;
+            forEachCoveredQuad<kWide>(d, t, rx0, ry0, rx1, ry1, [&](int qx, int qy, uint32_t m) {
+                for (int i = 0; i < earlier; ++i)
+                    if (qxs[size_t(i)] == qx && qys[size_t(i)] == qy && (mask[size_t(i)] & m)) {
+                        runPending();
                         earlier = 0;
+                        break;
                     }
+                interpolateQuad(d, t, qx, qy, q[size_t(pending)], iw[size_t(pending)]);
+                quadDepths(t, qx, qy, zs[size_t(pending)].z);
+                mask[size_t(pending)] = m;
+                qxs[size_t(pending)] = qx;
+                qys[size_t(pending)] = qy;
+                if (++pending == N) {
+                    shadeQuadGroup<FP, N, Group>(*k.fp, d, zs, q, iw, mask, qxs, qys, g, c);
+                    pending = 0;
+                    earlier = 0;
                 }
-            }
+            });
         }
         runPending();
         counters.add(c);
+    }
+
+    // runQuadGroups for a kLaneIndependent program: a pool of up to kFusionSlots pending
+    // quads, at most one per quad position of the rectangle (slotAt). A triangle's quad
+    // whose pixels are free in the pending quad at its position goes into those lanes
+    // (fuseQuad); one meeting a covered pixel first runs that pending quad (with the oldest
+    // others, a group's worth), so each pixel's fragments still meet the depth test and the
+    // output merger in triangle order. A quad whose four pixels are covered is complete:
+    // kGroupQuads complete quads run as soon as there are that many; the pool full, its
+    // oldest run; at the end, the rest. The pending quads are always distinct pixels, so the
+    // order in which they run changes nothing. A mesh's tiny triangles thus run as whole
+    // quads, where runQuadGroups ran each triangle's part of a quad as a quad of its own.
+    template <class Group>
+    static void runFusedGroups(const ProgramKernel& k, const ProgramTriangle* tris, const uint32_t* items,
+                               uint32_t count, int rx0, int ry0, int rx1, int ry1, ProgramCounters& counters) {
+        constexpr int N = Group::kQuads;
+        constexpr int P = kFusionSlots;
+        constexpr bool kWide = std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>;
+        const ProgramDraw& d = *k.d;
+        ProgramCounters c;
+        const int qx0 = rx0 & ~1, qy0 = ry0 & ~1, qw = ((rx1 - qx0) >> 1) + 1;
+        FusionPool<Group>& pool = FusionPool<Group>::storage();
+        auto &q = pool.q, &iw = pool.iw;
+        auto& zs = pool.zs;
+        auto& mask = pool.mask;
+        auto &qxs = pool.qxs, &qys = pool.qys;
+        auto& slotAt = pool.slotAt;
+        auto &order = pool.order, &freeSlots = pool.freeSlots;
+        slotAt.fill(-1);
+        int pending = 0, nFree = P, complete = 0;
+        for (int i = 0; i < P; ++i) freeSlots[size_t(i)] = int16_t(P - 1 - i);
+        auto at = [&](int qx, int qy) -> int16_t& {
+            return slotAt[size_t(((qy - qy0) >> 1) * qw + ((qx - qx0) >> 1))];
+        };
+        // Runs the pending slots at the order positions picked (n ≤ N of them) — out of
+        // line, so that the flattened kernel holds the program once — then frees them.
+        auto run = [&](const int (&picked)[N], int n) {
+            if constexpr (kWide)
+                runPickedAvx2(k, pool, picked, n, c);
+            else
+                runPickedSse2(k, pool, picked, n, c);
+            bool gone[P] = {};
+            for (int i = 0; i < n; ++i) {
+                const int sl = order[size_t(picked[i])];
+                at(qxs[size_t(sl)], qys[size_t(sl)]) = -1;
+                if (mask[size_t(sl)] == 15u) --complete;
+                freeSlots[size_t(nFree++)] = int16_t(sl);
+                gone[picked[i]] = true;
+            }
+            int w = 0;
+            for (int i = 0; i < pending; ++i)
+                if (!gone[i]) order[size_t(w++)] = order[size_t(i)];
+            pending = w;
+        };
+        // Runs `first` (an order position, or −1) and the oldest others up to N, or, with
+        // onlyComplete, the oldest N complete quads.
+        auto runOldest = [&](int first, bool onlyComplete) {
+            int picked[N];
+            int n = 0;
+            if (first >= 0) picked[n++] = first;
+            for (int i = 0; i < pending && n < N; ++i) {
+                if (i == first || (onlyComplete && mask[size_t(order[size_t(i)])] != 15u)) continue;
+                picked[n++] = i;
+            }
+            run(picked, n);
+        };
+        for (uint32_t ti = 0; ti < count; ++ti) {
+            const ProgramTriangle& t = tris[items ? items[ti] : ti];
+            forEachCoveredQuad<kWide>(d, t, rx0, ry0, rx1, ry1, [&](int qx, int qy, uint32_t m) {
+                int16_t sl = at(qx, qy);
+                if (sl >= 0 && (mask[size_t(sl)] & m)) {  // a pixel met again: that quad first
+                    int pos = 0;
+                    while (order[size_t(pos)] != sl) ++pos;
+                    runOldest(pos, false);
+                    sl = -1;
+                }
+                if (sl >= 0) {
+                    fuseQuad(d, t, qx, qy, m, q[size_t(sl)], iw[size_t(sl)], zs[size_t(sl)]);
+                    mask[size_t(sl)] |= m;
+                } else {
+                    if (nFree == 0) runOldest(-1, false);
+                    sl = freeSlots[size_t(--nFree)];
+                    at(qx, qy) = sl;
+                    order[size_t(pending++)] = sl;
+                    interpolateQuad(d, t, qx, qy, q[size_t(sl)], iw[size_t(sl)]);
+                    quadDepths(t, qx, qy, zs[size_t(sl)].z);
+                    mask[size_t(sl)] = m;
+                    qxs[size_t(sl)] = qx;
+                    qys[size_t(sl)] = qy;
+                }
+                if (mask[size_t(sl)] == 15u && ++complete >= N) runOldest(-1, true);
+            });
+        }
+        while (pending > 0) runOldest(-1, false);
+        counters.add(c);
+    }
+
+    // runFusedGroups' pending quads and the copies of those a group runs: a thread's own
+    // (about 45 KiB: not on the stack of every tile run).
+    template <class Group>
+    struct FusionPool {
+        static constexpr int N = Group::kQuads, P = kFusionSlots;
+        std::array<QuadVaryings, P> q;
+        std::array<std::array<float, 4>, P> iw;
+        std::array<QuadDepths, P> zs;
+        std::array<uint32_t, P> mask;
+        std::array<int, P> qxs, qys;
+        std::array<int16_t, kFusionMap> slotAt;
+        std::array<int16_t, P> order;  // the pending slots, oldest first
+        std::array<int16_t, P> freeSlots;
+        std::array<QuadVaryings, N> gq;
+        std::array<std::array<float, 4>, N> giw;
+        std::array<QuadDepths, N> gz;
+        std::array<uint32_t, N> gmask;
+        std::array<int, N> gx, gy;
+        Group g;
+        static FusionPool& storage() {
+            static thread_local FusionPool pool;
+            return pool;
+        }
+    };
+    // The pending quads at the order positions picked through the program: N as a group,
+    // fewer as runQuadGroups runs its last ones.
+    template <class Group, int N>
+    static void runPicked(const ProgramKernel& k, FusionPool<Group>& p, const int (&picked)[N], int n,
+                          ProgramCounters& c) {
+        const ProgramDraw& d = *k.d;
+        for (int i = 0; i < n; ++i) {
+            const size_t sl = size_t(p.order[size_t(picked[i])]);
+            p.gq[size_t(i)] = p.q[sl];
+            p.giw[size_t(i)] = p.iw[sl];
+            p.gz[size_t(i)] = p.zs[sl];
+            p.gmask[size_t(i)] = p.mask[sl];
+            p.gx[size_t(i)] = p.qxs[sl];
+            p.gy[size_t(i)] = p.qys[sl];
+        }
+        if (n == N) {
+            shadeQuadGroup<FP, N, Group>(*k.fp, d, p.gz, p.gq, p.giw, p.gmask, p.gx, p.gy, p.g, c);
+        } else if constexpr (std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>) {
+            shadeQuadPairs<N>(*k.fp, d, p.gz, p.gq, p.giw, p.gmask, p.gx, p.gy, n, c);
+        } else {
+            for (int i = 0; i < n; ++i)
+                shadeQuadLanes(*k.fp, d, p.gz[size_t(i)].z, p.gq[size_t(i)], p.giw[size_t(i)], p.gmask[size_t(i)],
+                               p.gx[size_t(i)], p.gy[size_t(i)], p.g.quad(i), c);
+        }
+    }
+    // The AVX2 kernel's: flattened on its own and never inlined, so runFusedGroups' several
+    // calls share one copy of the program (inlined at each, a glass program's kernel took
+    // over three times as long to compile).
+    template <class Group, int N>
+    [[gnu::noinline, gnu::target("avx2"), RG_KERNEL_FLATTEN]] static void runPickedAvx2(
+        const ProgramKernel& k, FusionPool<Group>& p, const int (&picked)[N], int n, ProgramCounters& c) {
+        runPicked<Group, N>(k, p, picked, n, c);
+    }
+    template <class Group, int N>
+    [[gnu::noinline]] static void runPickedSse2(const ProgramKernel& k, FusionPool<Group>& p, const int (&picked)[N],
+                                                int n, ProgramCounters& c) {
+        runPicked<Group, N>(k, p, picked, n, c);
     }
 
     // kLaneIndependent: the pixels `m` of triangle t's quad at (qx, qy) into a pending quad
