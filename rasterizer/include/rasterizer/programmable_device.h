@@ -401,7 +401,7 @@ constexpr bool kWideKernel = [] {
 // A program whose lanes never read one another: no derivative and no implicit-λ fetch (only
 // sampleLevel with an explicit λ, varyings, fragCoord, outputs), declared by
 // kLaneIndependent = true. Its fast path fills a quad's uncovered lanes with the pixels other
-// triangles cover at the same quad (ProgramKernel::runQuadGroups): each lane still computes
+// triangles cover at the same quad (ProgramKernel::runFusedGroups): each lane still computes
 // what it computes alone, from its own triangle's varyings, 1/w and z, so the bytes are the
 // reference path's (ProgrammablePathsAgree and the golden traces hold the programs that
 // declare it to that), while meshes of one- or two-pixel triangles, whose quads are a third
