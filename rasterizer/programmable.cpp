@@ -322,10 +322,6 @@ float storedDepth(bool depthD24, double z) {
     return z >= 1.0 ? 1.0f : float(z);
 }
 
-bool depthPasses(CompareFunc f, float incoming, float stored) {
-    return comparePasses(f, incoming, stored);
-}
-
 namespace {
 
 // IEEE binary16, round to nearest even (Imath's conversion); overflow → ±infinity; every

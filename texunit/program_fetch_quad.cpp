@@ -71,14 +71,19 @@ bool axisApplies(AddressMode m, int n) {
     // An 8-bit texel (Rgba8: r, g, b, a in bytes 0–3) is one 32-bit word: one gather per tap.
     const int* data = reinterpret_cast<const int*>(t.data8(level, 0));
     const __m128i byte = _mm_set1_epi32(255);
-    const __m128 k255 = _mm_set1_ps(255.0f);
+    const __m256d inv255 = _mm256_set1_pd(1.0 / 255.0);
     for (int tap = 0; tap < 4; ++tap) {
         const __m128i texel = _mm_i32gather_epi32(data, idx[tap], 4);
         const __m256d w = _mm256_mul_pd(_mm256_cvtepi32_pd(wt[tap]), scale);
         for (int k = 0; k < 4; ++k) {
             const __m128i v8 = _mm_and_si128(_mm_srli_epi32(texel, 8 * k), byte);
-            const __m128 v = _mm_div_ps(_mm_cvtepi32_ps(v8), k255);  // texelAsFloat: v / 255 in float
-            acc[k] = _mm256_add_pd(acc[k], _mm256_mul_pd(w, _mm256_cvtps_pd(v)));
+            // texelAsFloat's v/255 in float, as v·(1/255) in double rounded to float: the
+            // same bits for every v in 0..255 (unorm8ProductEqualsDivision; v/255 repeats
+            // v's byte in binary, so it is never within the product's error of a float
+            // rounding boundary) for a multiply where a division per channel and tap cost
+            // most of this fetch.
+            const __m256d v = _mm256_cvtps_pd(_mm256_cvtpd_ps(_mm256_mul_pd(_mm256_cvtepi32_pd(v8), inv255)));
+            acc[k] = _mm256_add_pd(acc[k], _mm256_mul_pd(w, v));
         }
     }
 }

@@ -37,6 +37,7 @@ struct GlassHeightFP {
     // SSE2 kernel (programmable_device.h, kWideKernel), which halves these kernels' compile.
     static constexpr bool kWideKernel = !kDiagnostics;
     static constexpr bool kLaneIndependent = true;  // explicit-λ fetches only, as GlassFP
+    static constexpr int kWideQuads = 4;            // as GlassFP
     HeightGlassConstants h;
     template <class Q>
     void operator()(Q& q) const {

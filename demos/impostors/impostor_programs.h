@@ -236,6 +236,10 @@ struct GlassFP {
     // Explicit-λ fetches only: the fast path may fill a quad with pixels of several of the
     // pieces' one- or two-pixel triangles (programmable_device.h, kLaneIndependent).
     static constexpr bool kLaneIndependent = true;
+    // Four quads a group on the AVX2 kernel, not eight: the searches' values, four
+    // registers wide at eight quads, spilled most of the time (programmable_device.h,
+    // kWideQuads).
+    static constexpr int kWideQuads = 4;
     GlassConstants k;
     template <class Q>
     void operator()(Q& q) const {
@@ -282,6 +286,7 @@ struct GridFP {
     static constexpr uint32_t kUnits = 0xFFF;
     static constexpr bool kWritesDepth = false;
     static constexpr bool kLaneIndependent = true;  // explicit-λ fetches only, as GlassFP
+    static constexpr int kWideQuads = 4;          // as GlassFP
     GridConstants g;
     template <class Q>
     void operator()(Q& q) const {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -142,6 +143,18 @@ TEST(ProgramFetch, LodOfKnownGradientsSelectsTheExpectedLevel) {
 // every address mode and mip filter — where quadFetch8Applies refuses one, the quad is not
 // compared, and the refusals are counted so that both kinds occur — random lane masks,
 // and coordinates that wrap, clamp, or are NaN or infinite.
+// programFetchQuad8 turns a byte v into texelAsFloat's v/255 (a float division) as
+// v·(1/255) in double rounded to float. Every byte: the same bits.
+TEST(ProgramFetch, Unorm8ProductEqualsDivision) {
+    const double inv255 = 1.0 / 255.0;
+    for (int v = 0; v < 256; ++v) {
+        volatile float byte = float(v);  // no folding: the divisions run as the fetch's would
+        const float division = byte / 255.0f;
+        const float product = float(double(byte) * inv255);
+        ASSERT_EQ(std::bit_cast<uint32_t>(product), std::bit_cast<uint32_t>(division)) << "v = " << v;
+    }
+}
+
 TEST(ProgramFetch, QuadFetchOf8BitTexturesMatchesTheTapListBitForBit) {
     if (!avx2Enabled()) GTEST_SKIP() << "programFetchQuad8 needs AVX2, which this CPU lacks or RETROGLASS_NO_AVX2 turns off";
     std::mt19937 rng(7);

@@ -429,6 +429,50 @@ TEST(ProgrammableDepth, EarlyAndLateDepthTestAndShadowCompare) {
     EXPECT_EQ(fetches, 4u);
 }
 
+// The fast path's stored depth, four lanes at a time (storedDepthQuad), against the rule
+// of docs/hardware.md ("Depth rounding", "Depth24 storage") written out with branches:
+// clamp to [0, 1] with NaN → 0; Depth24 k = floor(c·(2^24 − 1) + ½) in double, stored as
+// float(k / (2^24 − 1)); Depth32F float(c). Values at
+// the ends of the range, the midpoints between two 24-bit steps and their neighbours,
+// and random ones.
+TEST(ProgrammableDepth, QuadStoredDepthFollowsTheQuantisationRule) {
+    constexpr double kMax = double((1u << 24) - 1u);
+    auto oracle = [&](bool d24, double z) -> float {
+        const double c = !(z > 0.0) ? 0.0 : (z >= 1.0 ? 1.0 : z);
+        if (!d24) return float(c);
+        const double k = std::floor(c * kMax + 0.5);
+        return float(k / kMax);
+    };
+    std::vector<double> zs = {std::numeric_limits<double>::quiet_NaN(), -std::numeric_limits<double>::infinity(),
+                              -1.0, -0.0, 0.0, 1e-300, std::numeric_limits<double>::denorm_min(), 0.5 / kMax,
+                              std::nextafter(0.5 / kMax, 0.0), std::nextafter(0.5 / kMax, 1.0), 0.25, 0.5,
+                              std::nextafter(1.0, 0.0), 1.0, 1.5, std::numeric_limits<double>::infinity()};
+    for (int k : {1, 2, 1000, 4194303, 8388607, 16777213}) {  // halfway between steps k and k + 1
+        const double mid = (double(k) + 0.5) / kMax;
+        zs.insert(zs.end(), {mid, std::nextafter(mid, 0.0), std::nextafter(mid, 1.0)});
+    }
+    std::mt19937 rng(20261128);
+    std::uniform_real_distribution<double> u(-0.25, 1.25);
+    for (int i = 0; i < 4000; ++i) zs.push_back(u(rng));
+    while (zs.size() % 4) zs.push_back(0.75);
+    int checked = 0;
+    for (bool d24 : {true, false})
+        for (size_t i = 0; i < zs.size(); i += 4) {
+            const double z[4] = {zs[i], zs[i + 1], zs[i + 2], zs[i + 3]};
+            float out[4];
+            raster::detail::storedDepthQuad(d24, z, out);
+            for (int p = 0; p < 4; ++p) {
+                const float want = oracle(d24, z[p]);
+                ASSERT_EQ(std::bit_cast<uint32_t>(out[p]), std::bit_cast<uint32_t>(want))
+                    << (d24 ? "Depth24" : "Depth32F") << " z = " << z[p];
+                // The per-fragment path (shadeFragment) stores the same bits.
+                ASSERT_EQ(std::bit_cast<uint32_t>(raster::detail::storedDepth(d24, z[p])), std::bit_cast<uint32_t>(want));
+                ++checked;
+            }
+        }
+    EXPECT_EQ(checked, int(2 * zs.size()));
+}
+
 // ---- points ---------------------------------------------------------------------------------
 
 TEST(ProgrammablePoints, SquareOfPointSizeWithPointCoordinates) {

@@ -29,6 +29,7 @@
 #include "core/path.h"
 #include "core/profile.h"
 #include "rasterizer/device.h"
+#include "rasterizer/fragment_ops.h"
 #include "rasterizer/program.h"
 #include "rasterizer/quad_program.h"
 #include "rasterizer/quad_program_wide.h"
@@ -91,7 +92,28 @@ struct ProgramDraw {
 // round(clamp(z)·(2^24 − 1)) / (2^24 − 1) rounded to float (a one-to-one, monotonic map
 // of the 24-bit values, so float compares are integer compares); Depth32F clamp(z).
 float storedDepth(bool depthD24, double z);
-bool depthPasses(CompareFunc f, float incoming, float stored);
+inline bool depthPasses(CompareFunc f, float incoming, float stored) {
+    return comparePasses(f, incoming, stored);
+}
+// storedDepth on a quad's four window z, two lanes per SSE2 register: the same IEEE double
+// operations lane by lane. quantizeDepth's cases as a clamp, c = z > 0 ? min(z, 1) : 0 (NaN
+// to 0); Depth24 then q = floor(c·(2^24 − 1) + ½) — the sum lies in [½, 2^24), where
+// truncation is floor — and float(q / (2^24 − 1)); Depth32F float(c).
+inline void storedDepthQuad(bool depthD24, const double (&z)[4], float (&out)[4]) {
+    const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
+    const __m128d maxD = _mm_set1_pd(double((1u << 24) - 1u)), half = _mm_set1_pd(0.5);
+    __m128 pair[2];
+    for (int h = 0; h < 2; ++h) {
+        const __m128d zz = _mm_loadu_pd(z + 2 * h);
+        __m128d c = _mm_and_pd(_mm_cmpgt_pd(zz, zero), _mm_min_pd(zz, one));
+        if (depthD24) {
+            const __m128i q = _mm_cvttpd_epi32(_mm_add_pd(_mm_mul_pd(c, maxD), half));
+            c = _mm_div_pd(_mm_cvtepi32_pd(q), maxD);
+        }
+        pair[h] = _mm_cvtpd_ps(c);
+    }
+    _mm_storeu_ps(out, _mm_movelh_ps(pair[0], pair[1]));
+}
 // The output merger for one fragment at pixel (x, y): blend and write every target the
 // program wrote.
 void mergeFragment(const ProgramDraw& d, int x, int y,
@@ -206,10 +228,10 @@ inline uint32_t beginQuadLanes(const ProgramDraw& d, const double (&z)[4], const
     c.fragmentsGenerated += uint32_t(std::popcount(mask));
     zStore[0] = zStore[1] = zStore[2] = zStore[3] = 0.0f;
     if (d.depthData) {
+        storedDepthQuad(d.depthD24, z, zStore);  // uncovered lanes' values are never stored
         for (int p = 0; p < 4; ++p) {
             if (!((mask >> p) & 1u)) continue;
             const int px = qx + (p & 1), py = qy + (p >> 1);
-            zStore[p] = storedDepth(d.depthD24, z[p]);
             const float stored = d.depthData[size_t(py) * size_t(d.depthWidth) + size_t(px)];
             if (d.depthTest && !depthPasses(d.depthFunc, zStore[p], stored)) {
                 ++c.fragmentsDepthFailed;
@@ -361,7 +383,7 @@ bool programAvx2();
 // Quads per group for programs that run on a QuadGroupContext (quad_program.h): the SSE2
 // kernel, and the AVX2 kernel's QuadGroupWideContext (two quads per 256-bit register; eight
 // quads give the texel loads of four registers to overlap, measured faster than four or
-// twelve). A triangle's last quads, fewer than a group, run in pairs on the AVX2 kernel
+// twelve on tir's frame; a program may ask for fewer, kWideQuads). A triangle's last quads, fewer than a group, run in pairs on the AVX2 kernel
 // (ProgramKernel::shadeQuadPairs) and one by one on the SSE2 kernel.
 constexpr int kGroupQuads = 4;
 constexpr int kWideGroupQuads = 8;
@@ -390,6 +412,22 @@ constexpr bool kIsGroupProgram = kIsQuadProgram<FP> &&
 // costliest code to compile (1.5-2 CPU-minutes a glass program), so a program that is never
 // timed — the impostors' diagnostic variants, which write their searches' internals for the
 // report's figures — leaves it out.
+// The AVX2 kernel's quads per group for program FP: kWideGroupQuads, or the program's own
+// kWideQuads (2, 4 or 8). Eight quads keep four 256-bit registers of independent fetch
+// chains in flight, which tir's short searches over a small depth map want; a long program
+// whose every value is four registers wide spills most of them instead (the impostors'
+// glass programs: four quads measured 15-20 % faster than eight, and two slower again).
+template <class FP>
+constexpr int kWideQuads = [] {
+    if constexpr (requires { FP::kWideQuads; }) {
+        static_assert(FP::kWideQuads == 2 || FP::kWideQuads == 4 || FP::kWideQuads == 8,
+                      "kWideQuads: 2, 4 or 8 quads a group");
+        return int(FP::kWideQuads);
+    } else {
+        return kWideGroupQuads;
+    }
+}();
+
 template <class FP>
 constexpr bool kWideKernel = [] {
     if constexpr (requires { FP::kWideKernel; })
@@ -546,7 +584,7 @@ struct ProgramKernel {
                                                                      const uint32_t* items, uint32_t count,
                                                                      int rx0, int ry0, int rx1, int ry1,
                                                                      ProgramCounters& c) {
-        runQuadGroups<QuadGroupWideContext<kWideGroupQuads>>(k, tris, items, count, rx0, ry0, rx1, ry1, c);
+        runQuadGroups<QuadGroupWideContext<kWideQuads<FP>>>(k, tris, items, count, rx0, ry0, rx1, ry1, c);
     }
 
     // The covered quads of triangle t inside the inclusive rectangle, row after row, as
@@ -648,7 +686,7 @@ struct ProgramKernel {
     static void runUnfusedGroups(const ProgramKernel& k, const ProgramTriangle* tris, const uint32_t* items,
                                  uint32_t count, int rx0, int ry0, int rx1, int ry1, ProgramCounters& counters) {
         constexpr int N = Group::kQuads;
-        constexpr bool kWide = std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>;
+        constexpr bool kWide = std::is_same_v<Group, QuadGroupWideContext<kWideQuads<FP>>>;
         const ProgramDraw& d = *k.d;
         ProgramCounters c;
         std::array<QuadVaryings, N> q;
@@ -710,7 +748,7 @@ struct ProgramKernel {
                                uint32_t count, int rx0, int ry0, int rx1, int ry1, ProgramCounters& counters) {
         constexpr int N = Group::kQuads;
         constexpr int P = kFusionSlots;
-        constexpr bool kWide = std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>;
+        constexpr bool kWide = std::is_same_v<Group, QuadGroupWideContext<kWideQuads<FP>>>;
         const ProgramDraw& d = *k.d;
         ProgramCounters c;
         const int qx0 = rx0 & ~1, qy0 = ry0 & ~1, qw = ((rx1 - qx0) >> 1) + 1;
@@ -831,7 +869,7 @@ struct ProgramKernel {
         }
         if (n == N) {
             shadeQuadGroup<FP, N, Group>(*k.fp, d, p.gz, p.gq, p.giw, p.gmask, p.gx, p.gy, p.g, c);
-        } else if constexpr (std::is_same_v<Group, QuadGroupWideContext<kWideGroupQuads>>) {
+        } else if constexpr (std::is_same_v<Group, QuadGroupWideContext<kWideQuads<FP>>>) {
             shadeQuadPairs<N>(*k.fp, d, p.gz, p.gq, p.giw, p.gmask, p.gx, p.gy, n, c);
         } else {
             for (int i = 0; i < n; ++i)

@@ -478,6 +478,10 @@ template <int N>
 struct FourChannelFetch {
     FloatW<N> x, y, z;
     MaskW<N> live;
+    // Where the calls below write: a thread's own, so that the caller's result is a copy
+    // and not a value zeroed (FloatW's default) and then overwritten through memory — a
+    // `rep stos` at every fetch of the impostors' glass programs.
+    Vec4W<N> out;
     [[RG_NOIPA]] static FourChannelFetch& storage() {
         static thread_local FourChannelFetch a;
         return a;
@@ -558,9 +562,8 @@ class QuadGroupWideContext {
                 a.y.r[r] = c.y.r[r];
                 a.live.r[r] = live.r[r];
             }
-            Vec4 out;
-            a.linear2D(b.linear2D, out);
-            return out;
+            a.linear2D(b.linear2D, a.out);
+            return a.out;
         }
         Vec4 r;
         for (int i = 0; i < N; ++i) r.setQuad(i, quads_[size_t(i)].sample(unit, k, m.quad(i)));
@@ -631,14 +634,13 @@ class QuadGroupWideContext {
                 a.z.r[k] = c.z.r[k];
                 a.live.r[k] = live.r[k];
             }
-            Vec4 r;
             if (n.cube)
-                a.nearestCube(n, r);
+                a.nearestCube(n, a.out);
             else if (point)
-                a.nearest(n, r);
+                a.nearest(n, a.out);
             else
-                a.cube(b.cube, r);
-            return r;
+                a.cube(b.cube, a.out);
+            return a.out;
         }
         // Copied on this branch only, into storage the compiler cannot move stores to (a
         // thread's own): the caller's temporaries are only read, so they stay in registers
