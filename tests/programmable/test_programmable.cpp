@@ -942,23 +942,29 @@ TEST(ProgrammablePathsAgree, GroupProgramEqualsItsScalarTwinWithDepth) {
 // (fragCoord.w), window z (fragCoord.z, and the depth test and writes) — and counts, on
 // the group contexts, the calls and their live lanes.
 struct FusionCounts {
-    std::atomic<uint64_t> calls{0}, lanes{0};
+    std::atomic<uint64_t> calls{0}, lanes{0}, mostLanes{0};
 };
-template <bool kFuse>
+// kQuads: the AVX2 kernel's group width the program asks for (kWideQuads).
+template <bool kFuse, int kQuads = 8>
 struct FusionFP {
     static constexpr int kVaryings = 2;
     static constexpr uint32_t kTargets = 3;
     static constexpr uint32_t kUnits = 1;
     static constexpr bool kWritesDepth = false;
     static constexpr bool kLaneIndependent = kFuse;
+    static constexpr int kWideQuads = kQuads;
     FusionCounts* counts = nullptr;
     template <class Q>
     void operator()(Q& q) const {
         using F = typename Q::Float;
         using V4 = typename Q::Vec4;
         if constexpr (requires { Q::kQuads; }) {
+            const uint64_t n = uint64_t(std::popcount(q.active().bits()));
             counts->calls.fetch_add(1, std::memory_order_relaxed);
-            counts->lanes.fetch_add(uint64_t(std::popcount(q.active().bits())), std::memory_order_relaxed);
+            counts->lanes.fetch_add(n, std::memory_order_relaxed);
+            uint64_t most = counts->mostLanes.load(std::memory_order_relaxed);
+            while (n > most && !counts->mostLanes.compare_exchange_weak(most, n, std::memory_order_relaxed)) {
+            }
         }
         const V4 a = q.varying(0), b = q.varying(1), fc = q.fragCoord();
         q.discard(a.w > F(0.9f));
@@ -1014,7 +1020,9 @@ TEST(ProgrammablePathsAgree, LaneIndependentProgramsFuseQuadsOfTinyTriangles) {
     st.depthWrite = 1;
     st.depthFunc = CompareFunc::Less;
     st.blend[1] = TargetBlend{1, BlendFactor::One, BlendFactor::One, BlendOp::Add, kWriteRGBA};
-    auto render = [&](bool fuse, Path path, int threads, ProgramCounters& counters, FusionCounts& fcount) {
+    // quads: the program's kWideQuads (8, the default, or 4 or 2).
+    auto render = [&](bool fuse, Path path, int threads, ProgramCounters& counters, FusionCounts& fcount,
+                      int quads = 8) {
         auto t0 = fx.target(W, H, TexelFormat::RGBA32F);
         auto t1 = fx.target(W, H, TexelFormat::RGBA8);
         TextureDesc dd;
@@ -1030,7 +1038,11 @@ TEST(ProgrammablePathsAgree, LaneIndependentProgramsFuseQuadsOfTinyTriangles) {
         dev.setTexture(0, cube, point);
         dev.beginFrame();
         const std::span<const RandomVertex> v(verts);
-        if (fuse)
+        if (fuse && quads == 4)
+            dev.draw(RandomVP{}, FusionFP<true, 4>{&fcount}, ProgramPrimitive::TriangleList, v);
+        else if (fuse && quads == 2)
+            dev.draw(RandomVP{}, FusionFP<true, 2>{&fcount}, ProgramPrimitive::TriangleList, v);
+        else if (fuse)
             dev.draw(RandomVP{}, FusionFP<true>{&fcount}, ProgramPrimitive::TriangleList, v);
         else
             dev.draw(RandomVP{}, FusionFP<false>{&fcount}, ProgramPrimitive::TriangleList, v);
@@ -1067,6 +1079,21 @@ TEST(ProgrammablePathsAgree, LaneIndependentProgramsFuseQuadsOfTinyTriangles) {
     const double fusedFill = double(fused.lanes.load()) / double(fused.calls.load());
     EXPECT_GT(fusedFill, 2.5 * plainFill) << "lanes per call: fused " << fusedFill << ", not fused " << plainFill;
     std::printf("lanes per call: fused %.2f, not fused %.2f\n", fusedFill, plainFill);
+
+    // A program's own group width (kWideQuads): the same bytes and counters, and on the AVX2
+    // kernel calls of at most 4·kWideQuads lanes, some of them full (SSE2 runs four quads
+    // whatever the program asks).
+    for (int quads : {4, 2}) {
+        FusionCounts narrow;
+        EXPECT_EQ(render(true, Path::Fast, 1, c, narrow, quads), want) << "kWideQuads " << quads;
+        EXPECT_EQ(c.fragmentInvocations, ref.fragmentInvocations);
+        EXPECT_EQ(c.fragmentsWritten, ref.fragmentsWritten);
+        EXPECT_EQ(c.textureFetches, ref.textureFetches);
+        EXPECT_EQ(c.fragmentsDiscarded, ref.fragmentsDiscarded);
+        EXPECT_EQ(narrow.lanes.load(), plain.lanes.load());
+        EXPECT_EQ(narrow.mostLanes.load(), uint64_t(detail::programAvx2() ? 4 * quads : 16)) << "kWideQuads " << quads;
+    }
+    if (detail::programAvx2()) EXPECT_EQ(fused.mostLanes.load(), 32u);
 }
 
 // Fetch counts around a discard: a point-sampled fetch of every live lane, a discard that
