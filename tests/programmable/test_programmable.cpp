@@ -471,6 +471,20 @@ TEST(ProgrammableDepth, QuadStoredDepthFollowsTheQuantisationRule) {
             }
         }
     EXPECT_EQ(checked, int(2 * zs.size()));
+    // Every 24-bit value: z = k/(2^24 − 1) quantises to k (|z·(2^24 − 1) − k| is far below
+    // ½), and storedDepthQuad keeps float(k/(2^24 − 1)), the division's bits, which its
+    // product by 1/(2^24 − 1) must give.
+    for (uint32_t k = 0; k < (1u << 24); k += 4) {
+        double z[4];
+        for (int p = 0; p < 4; ++p) z[p] = double(k + uint32_t(p)) / kMax;
+        float out[4];
+        raster::detail::storedDepthQuad(true, z, out);
+        for (int p = 0; p < 4; ++p) {
+            const float want = float(double(k + uint32_t(p)) / kMax);
+            if (std::bit_cast<uint32_t>(out[p]) != std::bit_cast<uint32_t>(want))
+                FAIL() << "Depth24 step " << k + uint32_t(p) << ": " << out[p] << " against " << want;
+        }
+    }
 }
 
 // ---- points ---------------------------------------------------------------------------------

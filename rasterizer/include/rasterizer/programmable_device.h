@@ -98,17 +98,21 @@ inline bool depthPasses(CompareFunc f, float incoming, float stored) {
 // storedDepth on a quad's four window z, two lanes per SSE2 register: the same IEEE double
 // operations lane by lane. quantizeDepth's cases as a clamp, c = z > 0 ? min(z, 1) : 0 (NaN
 // to 0); Depth24 then q = floor(c·(2^24 − 1) + ½) — the sum lies in [½, 2^24), where
-// truncation is floor — and float(q / (2^24 − 1)); Depth32F float(c).
+// truncation is floor — and float(q / (2^24 − 1)), computed as float(q·(1/(2^24 − 1))):
+// the division's bits for every 24-bit q (q/(2^24 − 1) repeats q's 24 bits in binary, so
+// it is never within the product's error of a float rounding boundary; the test runs all
+// 2^24), where the division cost a sky fragment more than its depth test. Depth32F float(c).
 inline void storedDepthQuad(bool depthD24, const double (&z)[4], float (&out)[4]) {
     const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
     const __m128d maxD = _mm_set1_pd(double((1u << 24) - 1u)), half = _mm_set1_pd(0.5);
+    const __m128d invMax = _mm_set1_pd(1.0 / double((1u << 24) - 1u));
     __m128 pair[2];
     for (int h = 0; h < 2; ++h) {
         const __m128d zz = _mm_loadu_pd(z + 2 * h);
         __m128d c = _mm_and_pd(_mm_cmpgt_pd(zz, zero), _mm_min_pd(zz, one));
         if (depthD24) {
             const __m128i q = _mm_cvttpd_epi32(_mm_add_pd(_mm_mul_pd(c, maxD), half));
-            c = _mm_div_pd(_mm_cvtepi32_pd(q), maxD);
+            c = _mm_mul_pd(_mm_cvtepi32_pd(q), invMax);
         }
         pair[h] = _mm_cvtpd_ps(c);
     }
