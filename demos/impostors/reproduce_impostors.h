@@ -35,6 +35,7 @@ struct ImpostorReproduceSettings {
     int segments = 56;                // the pieces' lathe segments (the paper's face count)
     int sphereSlices = 64;
     std::vector<float> dollies = {1.0f, 0.8f, 0.65f, 0.5f};  // camera distance, × Figure 10's
+    std::vector<float> sizeSweep = {0.5f, 0.75f, 1.0f, 1.25f};  // image side, × imageSize, at Figure 10's view
     std::vector<int> iterationSweep = {0, 1, 2, 4, 8, 16};
     std::vector<int> depthSweep = {1, 2, 3};
     int analyticRays = 4000;          // Figure 2's rays
