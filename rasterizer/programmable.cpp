@@ -973,16 +973,22 @@ void ProgrammableDevice::Impl::setup(detail::DrawJob& job) {
         }
         c.primitivesSubmitted += n;
     } else {
-        job.processed.resize(n);
-        for (size_t i = 0; i < n; ++i) toProcessed(vertexAt(i), job.processed[i]);
+        // Each vertex projected once, however many indices name it (a closed mesh's vertex is
+        // shared by about six triangles): a processed vertex is a function of its vertex
+        // alone, so the triangles set up from it are the same bytes.
+        job.processed.resize(nv);
+        for (size_t i = 0; i < nv; ++i) toProcessed(job.vertices[i], job.processed[i]);
+        auto processedAt = [&](uint32_t i) -> const ProcessedVertex& {
+            return job.processed[job.indices.empty() ? size_t(i) : size_t(job.indices[i])];
+        };
         const Primitive prim = primitive == ProgramPrimitive::TriangleList    ? Primitive::TriangleList
                                : primitive == ProgramPrimitive::TriangleStrip ? Primitive::TriangleStrip
                                                                               : Primitive::TriangleFan;
         const uint32_t count = triangleCount(prim, uint32_t(n));
         for (uint32_t i = 0; i < count; ++i) {
             const auto v = triangleVertices(prim, i);
-            clipAndSetup(dc, job.processed[v[0]], job.processed[v[1]], job.processed[v[2]], none, none,
-                         chunk.tris, chunk.texPlanes, gc);
+            clipAndSetup(dc, processedAt(v[0]), processedAt(v[1]), processedAt(v[2]), none, none, chunk.tris,
+                         chunk.texPlanes, gc);
         }
         c.primitivesSubmitted += count;
     }
