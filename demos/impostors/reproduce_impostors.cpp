@@ -949,41 +949,55 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     r["iteration_sweep"] = iterJ;
     progress.advance();
 
-    // ---- more glass pixels → slower: the camera dollied in ----------------------------------
-    std::vector<double> glassPx, frameMs, glassPassMs;
-    nlohmann::json dollyJ = nlohmann::json::array();
-    {
-        // The dollies take turns, a frame each per round, so a change in the machine's load
-        // falls on all of them alike; the median of the rounds per dolly.
-        const int rounds = std::max(5, S.timedFrames);
-        std::vector<ray::Camera> cams;
-        std::vector<std::vector<double>> ms(S.dollies.size()), glassMs(S.dollies.size());
-        std::vector<int64_t> fragments(S.dollies.size(), 0);
-        ImpostorSettings s = base;
-        s.mode = Mode::Static;
-        for (float k : S.dollies) {
-            ray::Camera cam = scene.camera;
-            cam.eye = cam.target + (scene.camera.eye - scene.camera.target) * k;
-            cams.push_back(cam);
-            renderer.render(cam, s);  // warm-up
-        }
-        for (int r = 0; r < rounds; ++r)
-            for (size_t i = 0; i < cams.size(); ++i) {
-                const ImpostorFrame f = renderer.render(cams[i], s);
+    // ---- more glass pixels → slower ----------------------------------------------------------
+    // Views (camera and settings) timed side by side: they take turns, a frame each per round,
+    // so a change in the machine's load falls on all of them alike; per view the median of
+    // the rounds, its glass fragments, frame and glass-pass times.
+    struct SweepPoint {
+        double fragments = 0, frameMs = 0, glassMs = 0;
+    };
+    auto timeViews = [&](const std::vector<std::pair<ray::Camera, ImpostorSettings>>& views, int rounds) {
+        for (const auto& [cam, s] : views) renderer.render(cam, s);  // warm-up
+        std::vector<std::vector<double>> ms(views.size()), glassMs(views.size());
+        std::vector<SweepPoint> out(views.size());
+        for (int round = 0; round < rounds; ++round)
+            for (size_t i = 0; i < views.size(); ++i) {
+                const ImpostorFrame f = renderer.render(views[i].first, views[i].second);
                 ms[i].push_back(f.totalMs);
                 for (const PassTiming& p : f.passes)
                     if (p.name.rfind("frame: glass", 0) == 0) glassMs[i].push_back(p.ms);
-                fragments[i] = f.glassFragments;
+                out[i].fragments = double(f.glassFragments);
             }
-        for (size_t i = 0; i < cams.size(); ++i) {
-            glassPx.push_back(double(fragments[i]));
-            frameMs.push_back(median(ms[i]));
-            glassPassMs.push_back(glassMs[i].empty() ? 0.0 : median(glassMs[i]));
+        for (size_t i = 0; i < views.size(); ++i) {
+            out[i].frameMs = median(ms[i]);
+            out[i].glassMs = glassMs[i].empty() ? 0.0 : median(glassMs[i]);
+        }
+        return out;
+    };
+    const int sweepRounds = std::max(5, S.timedFrames);
+    ImpostorSettings staticSettings = base;
+    staticSettings.mode = Mode::Static;
+
+    // The camera dollied in.
+    std::vector<double> glassPx, frameMs, glassPassMs;
+    nlohmann::json dollyJ = nlohmann::json::array();
+    {
+        std::vector<std::pair<ray::Camera, ImpostorSettings>> views;
+        for (float k : S.dollies) {
+            ray::Camera cam = scene.camera;
+            cam.eye = cam.target + (scene.camera.eye - scene.camera.target) * k;
+            views.emplace_back(cam, staticSettings);
+        }
+        const std::vector<SweepPoint> pts = timeViews(views, sweepRounds);
+        for (size_t i = 0; i < pts.size(); ++i) {
+            glassPx.push_back(pts[i].fragments);
+            frameMs.push_back(pts[i].frameMs);
+            glassPassMs.push_back(pts[i].glassMs);
             dollyJ.push_back({{"distance_factor", S.dollies[i]},
-                              {"glass_fragments", fragments[i]},
-                              {"frame_ms", median(ms[i])},
-                              {"glass_pass_ms", glassPassMs.back()},
-                              {"frames", rounds}});
+                              {"glass_fragments", int64_t(pts[i].fragments)},
+                              {"frame_ms", pts[i].frameMs},
+                              {"glass_pass_ms", pts[i].glassMs},
+                              {"frames", sweepRounds}});
         }
     }
     // The claim is the pixel shader's ("this technique is pixel shader sensitive", §8): the
@@ -1000,44 +1014,32 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
                                                 {"intercept_ms", dollyFrameFit.intercept},
                                                 {"r2", dollyFrameFit.r2}}}};
 
-    // ---- more glass pixels, the same geometry: the image sized at Figure 10's view ------------
-    // The dolly also changes what the vertex stage and set-up see (pieces leave the frustum
-    // as the camera moves in), a share of the glass pass that outweighs the fragments' at
-    // the quick size now that a fragment costs under a microsecond: at 300² the pass fell
-    // from the third dolly to the fourth while its fragments grew. Sizing the image at one
-    // view changes the glass fragments and nothing the geometry stages do, which is what
-    // "pixel shader sensitive" asks about; the claim is decided on this sweep.
+    // More glass pixels, the same geometry: the image sized at Figure 10's view. The dolly
+    // also changes what the vertex stage and set-up see (pieces leave the frustum as the
+    // camera moves in), a share of the glass pass that outweighs the fragments' at the quick
+    // size now that a fragment costs under a microsecond: at 300² the pass fell from the
+    // third dolly to the fourth while its fragments grew. Sizing the image at one view
+    // changes the glass fragments and nothing the geometry stages do, which is what "pixel
+    // shader sensitive" asks about; the claim is decided on this sweep.
     std::vector<double> sizePx, sizeFrameMs, sizeGlassMs;
     nlohmann::json sizeJ = nlohmann::json::array();
     {
-        const int rounds = std::max(5, S.timedFrames);
-        std::vector<ImpostorSettings> sized;
+        std::vector<std::pair<ray::Camera, ImpostorSettings>> views;
         for (float f : S.sizeSweep) {
-            ImpostorSettings s = base;
-            s.mode = Mode::Static;
+            ImpostorSettings s = staticSettings;
             s.width = s.height = std::max(8, int(std::lround(double(f) * double(S.imageSize))));
-            sized.push_back(s);
-            renderer.render(scene.camera, s);  // warm-up
+            views.emplace_back(scene.camera, s);
         }
-        std::vector<std::vector<double>> ms(sized.size()), glassMs(sized.size());
-        std::vector<int64_t> fragments(sized.size(), 0);
-        for (int round = 0; round < rounds; ++round)  // the sizes take turns, as the dollies do
-            for (size_t i = 0; i < sized.size(); ++i) {
-                const ImpostorFrame f = renderer.render(scene.camera, sized[i]);
-                ms[i].push_back(f.totalMs);
-                for (const PassTiming& p : f.passes)
-                    if (p.name.rfind("frame: glass", 0) == 0) glassMs[i].push_back(p.ms);
-                fragments[i] = f.glassFragments;
-            }
-        for (size_t i = 0; i < sized.size(); ++i) {
-            sizePx.push_back(double(fragments[i]));
-            sizeFrameMs.push_back(median(ms[i]));
-            sizeGlassMs.push_back(glassMs[i].empty() ? 0.0 : median(glassMs[i]));
-            sizeJ.push_back({{"image_size", sized[i].width},
-                             {"glass_fragments", fragments[i]},
-                             {"frame_ms", sizeFrameMs.back()},
-                             {"glass_pass_ms", sizeGlassMs.back()},
-                             {"frames", rounds}});
+        const std::vector<SweepPoint> pts = timeViews(views, sweepRounds);
+        for (size_t i = 0; i < pts.size(); ++i) {
+            sizePx.push_back(pts[i].fragments);
+            sizeFrameMs.push_back(pts[i].frameMs);
+            sizeGlassMs.push_back(pts[i].glassMs);
+            sizeJ.push_back({{"image_size", views[i].second.width},
+                             {"glass_fragments", int64_t(pts[i].fragments)},
+                             {"frame_ms", pts[i].frameMs},
+                             {"glass_pass_ms", pts[i].glassMs},
+                             {"frames", sweepRounds}});
         }
     }
     const Fit sizeFit = fitLine(sizePx, sizeGlassMs);
