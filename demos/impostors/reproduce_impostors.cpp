@@ -975,6 +975,23 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
         return out;
     };
     const int sweepRounds = std::max(5, S.timedFrames);
+    // A view's entry in results.json, named by the swept quantity; a sweep's fits.
+    auto pointJson = [&](const char* key, const nlohmann::json& value, const SweepPoint& p) {
+        return nlohmann::json{{key, value},
+                              {"glass_fragments", int64_t(p.fragments)},
+                              {"frame_ms", p.frameMs},
+                              {"glass_pass_ms", p.glassMs},
+                              {"frames", sweepRounds}};
+    };
+    auto sweepJson = [](const nlohmann::json& frames, const Fit& glass, const Fit& frame) {
+        return nlohmann::json{{"frames", frames},
+                              {"ms_per_million_glass_fragments", glass.slope * 1e6},
+                              {"intercept_ms", glass.intercept},
+                              {"r2", glass.r2},
+                              {"whole_frame", {{"ms_per_million_glass_fragments", frame.slope * 1e6},
+                                               {"intercept_ms", frame.intercept},
+                                               {"r2", frame.r2}}}};
+    };
     ImpostorSettings staticSettings = base;
     staticSettings.mode = Mode::Static;
 
@@ -993,11 +1010,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
             glassPx.push_back(pts[i].fragments);
             frameMs.push_back(pts[i].frameMs);
             glassPassMs.push_back(pts[i].glassMs);
-            dollyJ.push_back({{"distance_factor", S.dollies[i]},
-                              {"glass_fragments", int64_t(pts[i].fragments)},
-                              {"frame_ms", pts[i].frameMs},
-                              {"glass_pass_ms", pts[i].glassMs},
-                              {"frames", sweepRounds}});
+            dollyJ.push_back(pointJson("distance_factor", S.dollies[i], pts[i]));
         }
     }
     // The claim is the pixel shader's ("this technique is pixel shader sensitive", §8): the
@@ -1006,13 +1019,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     // are culled as the camera moves in, the board covers more pixels).
     const Fit dollyFit = fitLine(glassPx, glassPassMs);
     const Fit dollyFrameFit = fitLine(glassPx, frameMs);
-    r["glass_pixels_sweep"] = {{"frames", dollyJ},
-                               {"ms_per_million_glass_fragments", dollyFit.slope * 1e6},
-                               {"intercept_ms", dollyFit.intercept},
-                               {"r2", dollyFit.r2},
-                               {"whole_frame", {{"ms_per_million_glass_fragments", dollyFrameFit.slope * 1e6},
-                                                {"intercept_ms", dollyFrameFit.intercept},
-                                                {"r2", dollyFrameFit.r2}}}};
+    r["glass_pixels_sweep"] = sweepJson(dollyJ, dollyFit, dollyFrameFit);
 
     // More glass pixels, the same geometry: the image sized at Figure 10's view. The dolly
     // also changes what the vertex stage and set-up see (pieces leave the frustum as the
@@ -1035,23 +1042,12 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
             sizePx.push_back(pts[i].fragments);
             sizeFrameMs.push_back(pts[i].frameMs);
             sizeGlassMs.push_back(pts[i].glassMs);
-            sizeJ.push_back({{"image_size", views[i].second.width},
-                             {"glass_fragments", int64_t(pts[i].fragments)},
-                             {"frame_ms", pts[i].frameMs},
-                             {"glass_pass_ms", pts[i].glassMs},
-                             {"frames", sweepRounds}});
+            sizeJ.push_back(pointJson("image_size", views[i].second.width, pts[i]));
         }
     }
     const Fit sizeFit = fitLine(sizePx, sizeGlassMs);
     const Fit sizeFrameFit = fitLine(sizePx, sizeFrameMs);
-    r["glass_pixels_sweep"]["image_sizes"] = {
-        {"frames", sizeJ},
-        {"ms_per_million_glass_fragments", sizeFit.slope * 1e6},
-        {"intercept_ms", sizeFit.intercept},
-        {"r2", sizeFit.r2},
-        {"whole_frame",
-         {{"ms_per_million_glass_fragments", sizeFrameFit.slope * 1e6}, {"intercept_ms", sizeFrameFit.intercept},
-          {"r2", sizeFrameFit.r2}}}};
+    r["glass_pixels_sweep"]["image_sizes"] = sweepJson(sizeJ, sizeFit, sizeFrameFit);
     progress.advance();
 
     // ---- Figures 5 and 9: the mirror pawn seen through the sphere -----------------------------
