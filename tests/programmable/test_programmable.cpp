@@ -1107,7 +1107,9 @@ TEST(ProgrammablePathsAgree, LaneIndependentProgramsFuseQuadsOfTinyTriangles) {
         EXPECT_EQ(narrow.lanes.load(), plain.lanes.load());
         EXPECT_EQ(narrow.mostLanes.load(), uint64_t(detail::programAvx2() ? 4 * quads : 16)) << "kWideQuads " << quads;
     }
-    if (detail::programAvx2()) EXPECT_EQ(fused.mostLanes.load(), 32u);
+    if (detail::programAvx2()) {
+        EXPECT_EQ(fused.mostLanes.load(), 32u);
+    }
 }
 
 // Fetch counts around a discard: a point-sampled fetch of every live lane, a discard that

@@ -387,8 +387,9 @@ bool programAvx2();
 // Quads per group for programs that run on a QuadGroupContext (quad_program.h): the SSE2
 // kernel, and the AVX2 kernel's QuadGroupWideContext (two quads per 256-bit register; eight
 // quads give the texel loads of four registers to overlap, measured faster than four or
-// twelve on tir's frame; a program may ask for fewer, kWideQuads). A triangle's last quads, fewer than a group, run in pairs on the AVX2 kernel
-// (ProgramKernel::shadeQuadPairs) and one by one on the SSE2 kernel.
+// twelve on tir's frame; a program may ask for fewer, kWideQuads). A triangle's last
+// quads, fewer than a group, run in pairs on the AVX2 kernel (ProgramKernel::shadeQuadPairs)
+// and one by one on the SSE2 kernel.
 constexpr int kGroupQuads = 4;
 constexpr int kWideGroupQuads = 8;
 // kLaneIndependent programs (ProgramKernel::runFusedGroups): pending quads a tile run may
@@ -410,12 +411,6 @@ constexpr bool kIsGroupProgram = kIsQuadProgram<FP> &&
                                      fp(pair);
                                  };
 
-// A group program runs on the AVX2 kernel where the CPU has AVX2, unless it declares
-// kWideKernel = false: then it takes the SSE2 kernel everywhere (the same bytes: the two
-// kernels do the same IEEE operations, ProgrammablePathsAgree). The flattened kernel is the
-// costliest code to compile (1.5-2 CPU-minutes a glass program), so a program that is never
-// timed — the impostors' diagnostic variants, which write their searches' internals for the
-// report's figures — leaves it out.
 // The AVX2 kernel's quads per group for program FP: kWideGroupQuads, or the program's own
 // kWideQuads (2, 4 or 8). Eight quads keep four 256-bit registers of independent fetch
 // chains in flight, which tir's short searches over a small depth map want; a long program
@@ -432,6 +427,12 @@ constexpr int kWideQuads = [] {
     }
 }();
 
+// A group program runs on the AVX2 kernel where the CPU has AVX2, unless it declares
+// kWideKernel = false: then it takes the SSE2 kernel everywhere (the same bytes: the two
+// kernels do the same IEEE operations, ProgrammablePathsAgree). The flattened kernel is the
+// costliest code to compile (1.5-2 CPU-minutes a glass program), so a program that is never
+// timed — the impostors' diagnostic variants, which write their searches' internals for the
+// report's figures — leaves it out.
 template <class FP>
 constexpr bool kWideKernel = [] {
     if constexpr (requires { FP::kWideKernel; })
