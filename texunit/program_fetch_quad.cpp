@@ -82,7 +82,7 @@ bool axisApplies(AddressMode m, int n) {
         for (int k = 0; k < 4; ++k) {
             const __m128i v8 = _mm_and_si128(_mm_srli_epi32(texel, 8 * k), byte);
             // texelAsFloat's v/255 in float, as v·(1/255) in double rounded to float: the
-            // same bits for every v in 0..255 (unorm8ProductEqualsDivision; v/255 repeats
+            // same bits for every v in 0..255 (ProgramFetch.Unorm8ProductEqualsDivision; v/255 repeats
             // v's byte in binary, so it is never within the product's error of a float
             // rounding boundary) for a multiply where a division per channel and tap cost
             // most of this fetch.
