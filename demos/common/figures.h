@@ -32,4 +32,16 @@ struct Cell {
 };
 ray::Image labelledGrid(const std::vector<Cell>& cells, int columns, int labelHeight = 18);
 
+// A line plot as SVG: one or more series over the same x values (non-finite values are
+// left out). The y axis runs from 0, or with `yFromData` from just below the smallest
+// value (PSNR in dB, where 0 would squash the lines together), to just above the largest.
+struct Series {
+    std::string name, colour;
+    std::vector<double> y;
+};
+void writeLinePlot(const std::filesystem::path& path, const std::string& title,
+                   const std::string& xLabel, const std::string& yLabel,
+                   const std::vector<double>& x, const std::vector<Series>& series,
+                   bool yFromData = false);
+
 }  // namespace rg::demos

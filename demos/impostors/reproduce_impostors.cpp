@@ -72,71 +72,6 @@ Fit fitLine(const std::vector<double>& x, const std::vector<double>& y) {
     return f;
 }
 
-// A line plot as SVG: one or more series over the same x values.
-struct Series {
-    std::string name, colour;
-    std::vector<double> y;
-};
-void writePlot(const fs::path& path, const std::string& title, const std::string& xLabel, const std::string& yLabel,
-               const std::vector<double>& x, const std::vector<Series>& series) {
-    const int W = 560, H = 340, L = 70, R = 20, T = 36, B = 50;
-    double ymax = 0;
-    for (const Series& s : series)
-        for (double v : s.y)
-            if (std::isfinite(v)) ymax = std::max(ymax, v);
-    ymax = ymax > 0 ? ymax * 1.1 : 1.0;
-    const double xmin = x.front(), xmax = x.back() > x.front() ? x.back() : x.front() + 1;
-    auto px = [&](double v) { return L + (v - xmin) / (xmax - xmin) * (W - L - R); };
-    auto py = [&](double v) { return H - B - v / ymax * (H - T - B); };
-    std::ofstream f(path);
-    if (!f) throw Error(path.string() + ": cannot write");
-    char b[512];
-    f << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    f << "<text x=\"" << W / 2 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << demos::htmlEscape(title)
-      << "</text>\n";
-    std::snprintf(b, sizeof b, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, H - B, W - R, H - B);
-    f << b;
-    std::snprintf(b, sizeof b, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, T, L, H - B);
-    f << b;
-    for (double v : x) {
-        std::snprintf(b, sizeof b, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%g</text>\n", px(v), H - B + 16, v);
-        f << b;
-    }
-    for (int k = 0; k <= 4; ++k) {
-        const double v = ymax * k / 4;
-        std::snprintf(b, sizeof b,
-                      "<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">%.3g</text><line x1=\"%d\" y1=\"%.1f\" x2=\"%d\" "
-                      "y2=\"%.1f\" stroke=\"#ddd\"/>\n",
-                      L - 6, py(v) + 4, v, L, py(v), W - R, py(v));
-        f << b;
-    }
-    f << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 12 << "\" text-anchor=\"middle\">" << demos::htmlEscape(xLabel)
-      << "</text>\n";
-    f << "<text x=\"16\" y=\"" << (T + H - B) / 2 << "\" text-anchor=\"middle\" transform=\"rotate(-90 16 " << (T + H - B) / 2
-      << ")\">" << demos::htmlEscape(yLabel) << "</text>\n";
-    int legend = 0;
-    for (const Series& s : series) {
-        std::string pts;
-        for (size_t i = 0; i < x.size() && i < s.y.size(); ++i) {
-            if (!std::isfinite(s.y[i])) continue;
-            std::snprintf(b, sizeof b, "%.1f,%.1f ", px(x[i]), py(s.y[i]));
-            pts += b;
-        }
-        f << "<polyline fill=\"none\" stroke=\"" << s.colour << "\" stroke-width=\"2\" points=\"" << pts << "\"/>\n";
-        for (size_t i = 0; i < x.size() && i < s.y.size(); ++i)
-            if (std::isfinite(s.y[i])) {
-                std::snprintf(b, sizeof b, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"%s\"/>\n", px(x[i]), py(s.y[i]),
-                              s.colour.c_str());
-                f << b;
-            }
-        std::snprintf(b, sizeof b, "<text x=\"%d\" y=\"%d\" fill=\"%s\">%s</text>\n", W - R - 220, T + 14 + 16 * legend,
-                      s.colour.c_str(), demos::htmlEscape(s.name).c_str());
-        f << b;
-        ++legend;
-    }
-    f << "</svg>\n";
-}
 
 // The reference clamped to what an 8-bit frame holds.
 ray::Image clamp01(ray::Image im) {
@@ -304,7 +239,7 @@ nlohmann::json runImpostors(const ImpostorReproduceSettings& S, const demos::Rep
     {
         std::vector<double> xs;
         for (int i = 0; i <= maxIt; ++i) xs.push_back(i);
-        writePlot(out / "figure2_error_by_iterations.svg",
+        demos::writeLinePlot(out / "figure2_error_by_iterations.svg",
                   "Secant search on a box room's distance map (" + std::to_string(analyticSize) + "² faces)",
                   "secant iterations after p and l", "mean |d − d_true|", xs,
                   {{"secant search", "#c03030", analytic.meanError},
