@@ -57,6 +57,29 @@ TEST(PemClaims, EveryReportedClaimHoldsAtQuickQuality) {
                            "viewer_passes"})
         EXPECT_TRUE(ids.count(id)) << id;
     EXPECT_EQ(r["claims_held"].get<int>(), r["claims_total"].get<int>());
+
+    // Between samples by spacing: quick quality's 8 samples at 4° give spacings of 1, 2 and
+    // 4 steps (8 would pass the last sample). The first row is the table's "between"; the
+    // further apart the two samples blended, the further the PTM's pasted-on shading is
+    // from the view between them, so its PSNR falls with the spacing.
+    const auto& sweep = r["off_manifold_between_by_spacing"];
+    ASSERT_EQ(sweep.size(), 3u) << sweep.dump(2);
+    const int k = r["settings"]["evaluation_view"].get<int>();
+    for (size_t i = 0; i < sweep.size(); ++i) {
+        const int d = 1 << i;
+        EXPECT_EQ(sweep[i]["spacing_views"].get<int>(), d);
+        EXPECT_DOUBLE_EQ(sweep[i]["spacing_degrees"].get<double>(), 4.0 * d);
+        EXPECT_EQ(sweep[i]["samples"], nlohmann::json::array({k, k + d}));
+        EXPECT_GT(sweep[i]["pixels"].get<int64_t>(), 1000);
+        if (i > 0) {
+            EXPECT_LT(sweep[i]["psnr_db"]["ptm"].get<double>(),
+                      sweep[i - 1]["psnr_db"]["ptm"].get<double>() - 0.5)
+                << "spacing " << d;
+        }
+    }
+    for (const char* mode : {"layered_pem", "single_infinite_pem", "ptm"})
+        EXPECT_EQ(sweep[0]["psnr_db"][mode], r["off_manifold_between"]["psnr_db"][mode]) << mode;
+    EXPECT_TRUE(fs::exists(o.outDir / "between_by_spacing.svg"));
 }
 
 // The claims test can fail: with the inference's smoothness weight wrong by ×10⁴ (the EMs
