@@ -98,7 +98,12 @@ demos::BenchCase frameCase(const std::string& name, int width, int height, int s
                 {"vertex_raytrace_ms", 1e3 * t.vertexRaysS},  {"texgen_ms", 1e3 * t.texgenS},
                 {"tessellation_ms", 1e3 * t.tessellationS}, {"other_ms", 1e3 * t.otherS()},
                 {"rays", double(n.rays.total())},           {"vertices", double(n.verticesTraced)},
-                {"triangles", double(n.trianglesOut)},       {"passes", double(f->device->counters().passes)}};
+                {"triangles", double(n.trianglesOut)},       {"passes", double(f->device->counters().passes)},
+                {"fragments", double(f->device->counters().fragmentsGenerated)},
+                {"fragments_written", double(f->device->counters().fragmentsWritten)},
+                {"triangles_drawn", double(f->device->counters().trianglesDrawn)},
+                {"triangles_culled", double(f->device->counters().trianglesCulled)},
+                {"texel_fetches", double(f->device->counters().texture.texelFetches)}};
         });
     };
     // The peer: the uniform ray tracer of 000 §6 on the same scene and view, the same ray
