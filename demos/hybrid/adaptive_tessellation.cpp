@@ -269,8 +269,15 @@ AdaptiveMesh tessellateAdaptively(const LensObject& lens, const ray::Accel& loca
 
     // Two hashes: vertex pairs → the midpoint vertex of that side of the edge, and
     // position pairs → the midpoint position. Across a crease the two sides have vertices
-    // of their own (their own normals, their own paths) at shared positions.
-    EdgeHash hash(active.size() * 2), positionHash(active.size() * 2);
+    // of their own (their own normals, their own paths) at shared positions. They start
+    // small and grow with the edges split: sized for every front triangle up front they
+    // took megabytes, and t-junction removal's lookups (six per leaf, nearly all misses
+    // where few triangles split) went out to L3 for each.
+    EdgeHash hash, positionHash;
+    // Positions at an end of a split edge. A vertex pair has a midpoint (in `hash`) only
+    // if its position pair has one (in `positionHash`), so an edge with an end not marked
+    // here has none on either side: t-junction removal skips both lookups for it.
+    std::vector<uint8_t> splitEnd(positionCount, 0);
     std::vector<Tri> leaves;
     std::vector<uint8_t> split;
     auto newVertex = [&](uint32_t a, uint32_t b, uint32_t pm) {
@@ -294,6 +301,8 @@ AdaptiveMesh tessellateAdaptively(const LensObject& lens, const ray::Accel& loca
         if (pm == EdgeHash::kNone) {
             pm = positionCount++;
             positionHash.insert(pa, pb, pm);
+            splitEnd[pa] = splitEnd[pb] = 1;
+            splitEnd.push_back(0);  // position pm's entry
         }
         m = newVertex(a, b, pm);
         fresh.push_back(m);
@@ -396,6 +405,10 @@ AdaptiveMesh tessellateAdaptively(const LensObject& lens, const ray::Accel& loca
     // (A generic lambda that calls itself, not a std::function: this runs for every edge
     // of every leaf, and the indirect call kept the compiler from inlining the lookups.)
     auto alongImpl = [&](auto& self, uint32_t a, uint32_t b, std::vector<uint32_t>& out) -> void {
+        if (!splitEnd[mesh.positionId[a]] || !splitEnd[mesh.positionId[b]]) {
+            out.push_back(a);
+            return;
+        }
         uint32_t m = hash.find(a, b);
         if (m == EdgeHash::kNone) {
             const uint32_t pm = positionHash.find(mesh.positionId[a], mesh.positionId[b]);
