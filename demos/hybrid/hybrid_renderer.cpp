@@ -338,20 +338,33 @@ ray::Image HybridRenderer::displayImage(ray::Image* coverage) const {
     const float inv = 1.0f / float(s * s * 255);
     const auto color = fb.color();
     const auto depth = fb.depth();
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            int r = 0, g = 0, bl = 0, drawn = 0;
-            for (int sy = 0; sy < s; ++sy)
-                for (int sx = 0; sx < s; ++sx) {
-                    const size_t i = size_t(y * s + sy) * size_t(fb.width()) + size_t(x * s + sx);
-                    r += color[i].r;
-                    g += color[i].g;
-                    bl += color[i].b;
-                    drawn += depth.empty() ? 0 : depth[i] < far ? 1 : 0;
-                }
-            out.setRgb(x, y, glm::vec3(float(r), float(g), float(bl)) * inv);
-            if (coverage) coverage->at(x, y, 0) = float(drawn) / float(s * s);
-        }
+    // Rows over the renderer's threads, each pixel written straight into the image (a
+    // call of Image::setRgb per pixel and one thread made this 2 % of the interactive
+    // frame). The same float operations per pixel: the same bytes on any thread count.
+    tbb::task_arena arena(tess_.threads > 0 ? tess_.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(0, H, [&](int y) {
+            float* row = out.pixels.data() + size_t(y) * size_t(W) * 3;
+            float* cov = coverage ? coverage->pixels.data() + size_t(y) * size_t(W) : nullptr;
+            for (int x = 0; x < W; ++x) {
+                int r = 0, g = 0, bl = 0, drawn = 0;
+                for (int sy = 0; sy < s; ++sy)
+                    for (int sx = 0; sx < s; ++sx) {
+                        const size_t i =
+                            size_t(y * s + sy) * size_t(fb.width()) + size_t(x * s + sx);
+                        r += color[i].r;
+                        g += color[i].g;
+                        bl += color[i].b;
+                        drawn += depth.empty() ? 0 : depth[i] < far ? 1 : 0;
+                    }
+                const glm::vec3 v = glm::vec3(float(r), float(g), float(bl)) * inv;
+                row[3 * x] = v.r;
+                row[3 * x + 1] = v.g;
+                row[3 * x + 2] = v.b;
+                if (cov) cov[x] = float(drawn) / float(s * s);
+            }
+        });
+    });
     return out;
 }
 

@@ -97,6 +97,7 @@ demos::BenchCase frameCase(const std::string& name, int width, int height, int s
             return std::map<std::string, double>{
                 {"vertex_raytrace_ms", 1e3 * t.vertexRaysS},  {"texgen_ms", 1e3 * t.texgenS},
                 {"tessellation_ms", 1e3 * t.tessellationS}, {"other_ms", 1e3 * t.otherS()},
+                {"downsample_ms", 1e3 * t.downsampleS},
                 {"rays", double(n.rays.total())},           {"vertices", double(n.verticesTraced)},
                 {"triangles", double(n.trianglesOut)},       {"passes", double(f->device->counters().passes)},
                 {"fragments", double(f->device->counters().fragmentsGenerated)},
