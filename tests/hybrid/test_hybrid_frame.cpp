@@ -175,6 +175,7 @@ TEST(HybridFrame, TooManyLayersForTheCoordinateSetsIsRefused) {
 
 TEST(HybridFrame, SameBytesOnBothPathsAndAnyThreadCount) {
     std::vector<std::vector<Rgba8>> frames;
+    std::vector<std::vector<float>> displays, coverages;
     for (auto [path, threads] : {std::pair{Path::Reference, 1}, std::pair{Path::Fast, 1},
                                  std::pair{Path::Fast, 3}}) {
         Fixture f(true, 2, path, threads);
@@ -182,10 +183,40 @@ TEST(HybridFrame, SameBytesOnBothPathsAndAnyThreadCount) {
         const SampleMaps b = f.constantMaps({{10, 80, 20, 200}, {200, 30, 90, 255}}, 1);
         f.renderer->tessellation().threads = threads;
         f.renderer->render(f.camera, a, &b, 0.3f);
-        frames.emplace_back(f.device.framebuffer().color().begin(), f.device.framebuffer().color().end());
+        const raster::Framebuffer& fb = f.device.framebuffer();
+        frames.emplace_back(fb.color().begin(), fb.color().end());
+        // The display: each s×s block's channel sums times 1/(s²·255), and the share of
+        // its samples drawn (depth below the cleared far value).
+        ray::Image coverage;
+        const ray::Image display = f.renderer->displayImage(&coverage);
+        const int s = f.renderer->subsample();
+        ASSERT_EQ(s, 2);
+        ASSERT_EQ(display.width, fb.width() / s);
+        ASSERT_EQ(display.height, fb.height() / s);
+        const float inv = 1.0f / float(s * s * 255);
+        int drawnPixels = 0;
+        for (int y = 0; y < display.height; ++y)
+            for (int x = 0; x < display.width; ++x) {
+                int sum[3] = {0, 0, 0}, drawn = 0;
+                for (int k = 0; k < s * s; ++k) {
+                    const int px = x * s + k % s, py = y * s + k / s;
+                    const Rgba8 c = fb.pixel(px, py);
+                    sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
+                    drawn += fb.depth()[size_t(py) * size_t(fb.width()) + size_t(px)] < fb.depthMax();
+                }
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_EQ(display.at(x, y, c), float(sum[c]) * inv) << x << ", " << y;
+                ASSERT_EQ(coverage.at(x, y, 0), float(drawn) / float(s * s)) << x << ", " << y;
+                drawnPixels += drawn > 0;
+            }
+        EXPECT_GT(drawnPixels, 100);
+        displays.push_back(display.pixels);
+        coverages.push_back(coverage.pixels);
     }
     EXPECT_TRUE(frames[0] == frames[1]) << "reference and fast paths differ";
     EXPECT_TRUE(frames[1] == frames[2]) << "1 and 3 threads differ";
+    EXPECT_TRUE(displays[1] == displays[2] && coverages[1] == coverages[2])
+        << "the display differs between 1 and 3 threads";
 }
 
 TEST(StackedInference, TwoMatricesTogetherRecoverWhatNeitherSeesAlone) {
