@@ -468,7 +468,7 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     }
     r["on_manifold"]["psnr_db"]["pem"] = on.scores["layered_pem"].psnr;
     r["off_manifold_between_by_spacing"] = bySpacing;
-    {
+    if (!bySpacing.empty()) {  // (a path of one sample has no spacing)
         std::vector<double> xs;
         std::vector<demos::Series> series{{"layered PEM", "#c03030", {}},
                                           {"single sphere-at-infinity PEM", "#30a030", {}},
@@ -606,34 +606,36 @@ nlohmann::json runPem(PemSettings S, const demos::ReproduceOptions& options) {
     rep.figure("error_maps.png",
                "Per-pixel error against the ray tracer (black 0 → blue → green → yellow → red → "
                "white 0.25), each method at each view.");
-    rep.heading("Between samples by spacing");
-    md << "Halfway between sample " << kView << " and a sample d steps on, blending the two as "
-       << "the viewer does; d = 1 is the table's `off_manifold_between` (the paper's spacing at "
-       << "paper quality). The PTM fits a sample more closely (`on_manifold`), and a blend of two "
-          "nearby samples' textures stays close to the view between them; the further apart "
-          "the samples, the more the PTM's pasted-on shading shows (001 §2, §6), while the PEMs "
-          "recompute each vertex's reflection ray at the actual viewpoint. The row where the "
-          "layered PEM first leads the PTM is where its advantage between samples begins; the "
-          "claim `layered_beats_ptm_between` is decided at d = 1. PSNR in dB / SSIM over the "
-          "reflector's pixels.\n\n";
-    {
-        demos::Table t{{"spacing", "samples", "layered PEM", "single sphere-at-infinity PEM", "PTM",
-                        "layered − PTM"}, {}};
-        for (const auto& j : bySpacing) {
-            std::vector<std::string> row{num(j["spacing_degrees"].get<double>(), 1) + "°",
-                                         std::to_string(j["samples"][0].get<int>()) + ", " +
-                                             std::to_string(j["samples"][1].get<int>())};
-            for (const char* mode : {"layered_pem", "single_infinite_pem", "ptm"})
-                row.push_back(num(j["psnr_db"][mode].get<double>()) + " / " +
-                              num(j["ssim"][mode].get<double>(), 3));
-            row.push_back(num(j["psnr_db"]["layered_pem"].get<double>() -
-                              j["psnr_db"]["ptm"].get<double>()) + " dB");
-            t.rows.push_back(row);
+    if (!bySpacing.empty()) {
+        rep.heading("Between samples by spacing");
+        md << "Halfway between sample " << kView << " and a sample d steps on, blending the two as "
+           << "the viewer does; d = 1 is the table's `off_manifold_between` (the paper's spacing at "
+           << "paper quality). The PTM fits a sample more closely (`on_manifold`), and a blend of two "
+              "nearby samples' textures stays close to the view between them; the further apart "
+              "the samples, the more the PTM's pasted-on shading shows (001 §2, §6), while the PEMs "
+              "recompute each vertex's reflection ray at the actual viewpoint. The row where the "
+              "layered PEM first leads the PTM is where its advantage between samples begins; the "
+              "claim `layered_beats_ptm_between` is decided at d = 1. PSNR in dB / SSIM over the "
+              "reflector's pixels.\n\n";
+        {
+            demos::Table t{{"spacing", "samples", "layered PEM", "single sphere-at-infinity PEM", "PTM",
+                            "layered − PTM"}, {}};
+            for (const auto& j : bySpacing) {
+                std::vector<std::string> row{num(j["spacing_degrees"].get<double>(), 1) + "°",
+                                             std::to_string(j["samples"][0].get<int>()) + ", " +
+                                                 std::to_string(j["samples"][1].get<int>())};
+                for (const char* mode : {"layered_pem", "single_infinite_pem", "ptm"})
+                    row.push_back(num(j["psnr_db"][mode].get<double>()) + " / " +
+                                  num(j["ssim"][mode].get<double>(), 3));
+                row.push_back(num(j["psnr_db"]["layered_pem"].get<double>() -
+                                  j["psnr_db"]["ptm"].get<double>()) + " dB");
+                t.rows.push_back(row);
+            }
+            rep.table(t);
         }
-        rep.table(t);
+        rep.figure("between_by_spacing.svg",
+                   "PSNR halfway between two samples against the spacing of the two samples blended.");
     }
-    rep.figure("between_by_spacing.svg",
-               "PSNR halfway between two samples against the spacing of the two samples blended.");
     rep.heading("The viewer (001 §6 table)");
     rep.table({{"", "paper on", "ours on", "paper off", "ours off"},
                {{"geometry passes", "2", std::to_string(von["geometry_passes"].get<int>()), "3",

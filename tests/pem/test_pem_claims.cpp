@@ -131,6 +131,23 @@ TEST(PemClaims, HoldAtASmallSetting) {
         EXPECT_TRUE(fs::exists(o.outDir / f)) << f;
 }
 
+// A path of one sample has no second sample to blend with at any spacing: the sweep is
+// empty and left out of the report, and the run still finishes.
+TEST(PemClaims, OneSampleLeavesTheSpacingSweepEmpty) {
+    demos::ReproduceOptions o;
+    o.outDir = test::scratchDir("pem-one-view");
+    PemSettings s = smallSettings();
+    s.views = 1;
+    const nlohmann::json r = runPem(s, o);
+    ASSERT_FALSE(r.empty());
+    EXPECT_TRUE(r["off_manifold_between_by_spacing"].empty());
+    EXPECT_FALSE(fs::exists(o.outDir / "between_by_spacing.svg"));
+    std::ifstream f(o.outDir / "report.md");
+    const std::string md(std::istreambuf_iterator<char>(f), {});
+    EXPECT_EQ(md.find("Between samples by spacing"), std::string::npos);
+    EXPECT_NE(md.find("The viewer"), std::string::npos);
+}
+
 // A split or interrupted precompute (issue 21): a --views range stores its views and stops;
 // a run killed mid-view leaves a .partial folder; the full run then keeps every finished
 // view, redoes only the unfinished one and evaluates; a run with other settings into the
