@@ -142,6 +142,56 @@ void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgb
     }
 }
 
+// A constant colour blended over the framebuffer, with no depth, texture or specular
+// (hybrid's alpha-clear polygon, 000 §5): every covered pixel's source is that colour, so
+// each row's span is blended from it directly, four pixels per step with the quad
+// kernel's two-pixel blend (sse::blend2, as quadOutputSse) and the rest with blendPixel,
+// the function blend2 computes two pixels of. The same bytes and counters as the quad
+// walk, without its per-quad interpolation of planes that have no slope.
+void spanBlend(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgba8 color,
+               RasterCounters& rc) {
+    const int s = dc.subpixelBits;
+    const PipelineState& st = dc.st;
+    const bool pass = !st.alphaTest || comparePasses(st.alphaFunc, color.a, st.alphaRef);
+    Framebuffer& fb = *dc.fb;
+    Rgba8* base = fb.color().data();
+    const size_t width = size_t(fb.width());
+    const uint8_t mask = st.colorWriteMask;
+    const BlendFactor sf = st.srcBlend, df = st.dstBlend;
+    const BlendOp op = st.blendOp;
+    uint32_t bits;
+    std::memcpy(&bits, &color, 4);
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i src16 = _mm_unpacklo_epi8(_mm_set1_epi32(int(bits)), zero);  // two pixels
+    const __m128i keep = _mm_set1_epi32(int((mask & kWriteR ? 0x000000FFu : 0u) |
+                                            (mask & kWriteG ? 0x0000FF00u : 0u) |
+                                            (mask & kWriteB ? 0x00FF0000u : 0u) |
+                                            (mask & kWriteA ? 0xFF000000u : 0u)));
+    for (int py = box.y0; py <= box.y1; ++py) {
+        int l, r;
+        if (!rowSpan(t, py, s, box, l, r)) continue;
+        const uint64_t n = uint64_t(r - l + 1);
+        rc.generated += n;
+        if (!pass) continue;
+        rc.written += n;
+        rc.blendOps += n;
+        Rgba8* row = base + size_t(py) * width;
+        int x = l;
+        for (; x + 3 <= r; x += 4) {
+            __m128i* p = reinterpret_cast<__m128i*>(row + x);
+            const __m128i dst = _mm_loadu_si128(p);
+            const __m128i lo = sse::blend2(sf, df, op, src16, _mm_unpacklo_epi8(dst, zero));
+            const __m128i hi = sse::blend2(sf, df, op, src16, _mm_unpackhi_epi8(dst, zero));
+            __m128i out = _mm_packus_epi16(lo, hi);
+            if (mask != kWriteRGBA)
+                out = _mm_or_si128(_mm_and_si128(keep, out), _mm_andnot_si128(keep, dst));
+            _mm_storeu_si128(p, out);
+        }
+        for (; x <= r; ++x)
+            row[x] = applyWriteMask(mask, blendPixel(sf, df, op, color, row[x]), row[x]);
+    }
+}
+
 // Boxes inside one even-aligned 2×2 quad (triangles of a pixel or two, the common case of
 // dense meshes): the coverage of that one quad straight from the three edge functions,
 // then the quad kernel, without the per-row set-up of quadWalk. Pass-through only (the
@@ -357,6 +407,8 @@ template <bool kSingleQuad, bool kDepth, int kBlendMode>
                                                    RasterCounters& rc) {
     const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
                               !dc.st.blend;
+    const bool spanBlendable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
+                               dc.st.blend;
     const SetupTriangle* tris = chunk.tris.data();
     const uint32_t* items = chunk.binItems.data();
     for (uint32_t k = begin; k < end; ++k) {
@@ -372,6 +424,8 @@ template <bool kSingleQuad, bool kDepth, int kBlendMode>
             singleQuad<kDepth, kBlendMode>(dc, t, box, rc);
         else if (spanFillable && constantColor(dc, t, color))
             spanFill(dc, t, box, color, rc);
+        else if (spanBlendable && constantColor(dc, t, color))
+            spanBlend(dc, t, box, color, rc);
         else
             walk(dc, t, chunk.texPlanes.data(), box, scratch, rc);
     }
