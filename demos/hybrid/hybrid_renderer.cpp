@@ -169,14 +169,12 @@ void drawAlphaClear(raster::Device& device_, const std::string& label) {
     st.srcBlend = BlendFactor::Zero;
     st.dstBlend = BlendFactor::SrcColor;
     device_.setState(st);
+    // Every stage disabled: D3D7 then passes the diffuse colour through (stage 0's
+    // D3DTOP_DISABLE), which is what SELECTARG1(DIFFUSE) would give, and the device takes
+    // its untextured path: the polygon's constant colour blended span by span instead of
+    // a stage cascade per quad over the whole screen (2 ms of the interactive frame each).
     tex::TextureUnits& tu = device_.textureUnits();
-    tex::StageState s0;
-    s0.colorOp = TextureOp::SelectArg1;
-    s0.colorArg1 = arg::Diffuse;
-    s0.alphaOp = TextureOp::SelectArg1;
-    s0.alphaArg1 = arg::Diffuse;
-    tu.setStage(0, s0);
-    for (int s = 1; s < device_.profile().maxTextureStages; ++s) tu.setStage(s, {});
+    for (int s = 0; s < device_.profile().maxTextureStages; ++s) tu.setStage(s, {});
     const float w = float(device_.framebuffer().width()), h = float(device_.framebuffer().height());
     raster::Vertex q[4];
     const glm::vec2 corners[4] = {{0, 0}, {w, 0}, {w, h}, {0, h}};
@@ -376,14 +374,12 @@ void HybridRenderer::drawLevels() {
     st.shade = raster::ShadeMode::Flat;
     device_.setState(st);
     device_.clear(true, {0, 0, 0, 0}, true, 1.0f);
+    // Every stage disabled: D3D7 then passes the diffuse colour through (stage 0's
+    // D3DTOP_DISABLE), which is what SELECTARG1(DIFFUSE) would give, and the device takes
+    // its untextured path: the polygon's constant colour blended span by span instead of
+    // a stage cascade per quad over the whole screen (2 ms of the interactive frame each).
     tex::TextureUnits& tu = device_.textureUnits();
-    tex::StageState s0;
-    s0.colorOp = TextureOp::SelectArg1;
-    s0.colorArg1 = arg::Diffuse;
-    s0.alphaOp = TextureOp::SelectArg1;
-    s0.alphaArg1 = arg::Diffuse;
-    tu.setStage(0, s0);
-    for (int s = 1; s < device_.profile().maxTextureStages; ++s) tu.setStage(s, {});
+    for (int s = 0; s < device_.profile().maxTextureStages; ++s) tu.setStage(s, {});
     for (size_t i = 0; i < meshes_.size(); ++i) {
         const AdaptiveMesh& m = meshes_[i];
         device_.beginPass(scene_.objects()[i].name + ": subdivision level (Figure 5)");
