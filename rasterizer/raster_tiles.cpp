@@ -116,16 +116,17 @@ bool constantColor(const DrawContext& dc, const SetupTriangle& t, Rgba8& out) {
     return true;
 }
 
-// The span fill: passes no depth, blend, texture or specular, so each covered pixel
-// receives the same colour (after alpha test and write mask, both decided once).
-void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgba8 color,
-              RasterCounters& rc) {
+// The covered span [l, r] of each row of `box` for the two constant-colour paths below,
+// with the counters they share: every covered pixel generated; when `pass` (the alpha
+// test, decided once on the constant alpha) written, and `write(row, l, r)` run on the
+// row's pixels.
+template <class Write>
+[[gnu::always_inline]] inline void constantSpans(const DrawContext& dc, const SetupTriangle& t,
+                                                 const Box& box, bool pass, RasterCounters& rc,
+                                                 Write&& write) {
     const int s = dc.subpixelBits;
-    const bool pass = !dc.st.alphaTest || comparePasses(dc.st.alphaFunc, color.a, dc.st.alphaRef);
-    Framebuffer& fb = *dc.fb;
-    Rgba8* base = fb.color().data();
-    const size_t width = size_t(fb.width());
-    const uint8_t mask = dc.st.colorWriteMask;
+    Rgba8* base = dc.fb->color().data();
+    const size_t width = size_t(dc.fb->width());
     for (int py = box.y0; py <= box.y1; ++py) {
         int l, r;
         if (!rowSpan(t, py, s, box, l, r)) continue;
@@ -133,13 +134,26 @@ void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgb
         rc.generated += n;
         if (!pass) continue;
         rc.written += n;
-        Rgba8* row = base + size_t(py) * width;
+        write(base + size_t(py) * width, l, r);
+    }
+}
+
+bool alphaPasses(const PipelineState& st, Rgba8 color) {
+    return !st.alphaTest || comparePasses(st.alphaFunc, color.a, st.alphaRef);
+}
+
+// The span fill: passes no depth, blend, texture or specular, so each covered pixel
+// receives the same colour (after alpha test and write mask, both decided once).
+void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgba8 color,
+              RasterCounters& rc) {
+    const uint8_t mask = dc.st.colorWriteMask;
+    constantSpans(dc, t, box, alphaPasses(dc.st, color), rc, [&](Rgba8* row, int l, int r) {
         if (mask == kWriteRGBA) {
             std::fill(row + l, row + r + 1, color);
         } else {
             for (int x = l; x <= r; ++x) row[x] = applyWriteMask(mask, color, row[x]);
         }
-    }
+    });
 }
 
 // A constant colour blended over the framebuffer, with no depth, texture or specular
@@ -150,12 +164,7 @@ void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgb
 // walk, without its per-quad interpolation of planes that have no slope.
 void spanBlend(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgba8 color,
                RasterCounters& rc) {
-    const int s = dc.subpixelBits;
     const PipelineState& st = dc.st;
-    const bool pass = !st.alphaTest || comparePasses(st.alphaFunc, color.a, st.alphaRef);
-    Framebuffer& fb = *dc.fb;
-    Rgba8* base = fb.color().data();
-    const size_t width = size_t(fb.width());
     const uint8_t mask = st.colorWriteMask;
     const BlendFactor sf = st.srcBlend, df = st.dstBlend;
     const BlendOp op = st.blendOp;
@@ -167,15 +176,8 @@ void spanBlend(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rg
                                             (mask & kWriteG ? 0x0000FF00u : 0u) |
                                             (mask & kWriteB ? 0x00FF0000u : 0u) |
                                             (mask & kWriteA ? 0xFF000000u : 0u)));
-    for (int py = box.y0; py <= box.y1; ++py) {
-        int l, r;
-        if (!rowSpan(t, py, s, box, l, r)) continue;
-        const uint64_t n = uint64_t(r - l + 1);
-        rc.generated += n;
-        if (!pass) continue;
-        rc.written += n;
-        rc.blendOps += n;
-        Rgba8* row = base + size_t(py) * width;
+    constantSpans(dc, t, box, alphaPasses(st, color), rc, [&](Rgba8* row, int l, int r) {
+        rc.blendOps += uint64_t(r - l + 1);
         int x = l;
         for (; x + 3 <= r; x += 4) {
             __m128i* p = reinterpret_cast<__m128i*>(row + x);
@@ -189,7 +191,7 @@ void spanBlend(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rg
         }
         for (; x <= r; ++x)
             row[x] = applyWriteMask(mask, blendPixel(sf, df, op, color, row[x]), row[x]);
-    }
+    });
 }
 
 // Boxes inside one even-aligned 2×2 quad (triangles of a pixel or two, the common case of
