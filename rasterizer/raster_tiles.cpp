@@ -147,9 +147,16 @@ bool alphaPasses(const PipelineState& st, Rgba8 color) {
 void spanFill(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rgba8 color,
               RasterCounters& rc) {
     const uint8_t mask = dc.st.colorWriteMask;
+    uint32_t bits;
+    std::memcpy(&bits, &color, 4);
+    const __m128i four = _mm_set1_epi32(int(bits));
     constantSpans(dc, t, box, alphaPasses(dc.st, color), rc, [&](Rgba8* row, int l, int r) {
         if (mask == kWriteRGBA) {
-            std::fill(row + l, row + r + 1, color);
+            // Four pixels a store (std::fill of the 4-byte struct compiled to one store a
+            // pixel, measured).
+            int x = l;
+            for (; x + 3 <= r; x += 4) _mm_storeu_si128(reinterpret_cast<__m128i*>(row + x), four);
+            for (; x <= r; ++x) row[x] = color;
         } else {
             for (int x = l; x <= r; ++x) row[x] = applyWriteMask(mask, color, row[x]);
         }
