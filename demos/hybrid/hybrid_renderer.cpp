@@ -374,10 +374,8 @@ void HybridRenderer::drawLevels() {
     st.shade = raster::ShadeMode::Flat;
     device_.setState(st);
     device_.clear(true, {0, 0, 0, 0}, true, 1.0f);
-    // Every stage disabled: D3D7 then passes the diffuse colour through (stage 0's
-    // D3DTOP_DISABLE), which is what SELECTARG1(DIFFUSE) would give, and the device takes
-    // its untextured path: the polygon's constant colour blended span by span instead of
-    // a stage cascade per quad over the whole screen (2 ms of the interactive frame each).
+    // Every stage disabled: D3D7 passes the diffuse colour through (stage 0's
+    // D3DTOP_DISABLE), the level's flat shade, and the device draws it untextured.
     tex::TextureUnits& tu = device_.textureUnits();
     for (int s = 0; s < device_.profile().maxTextureStages; ++s) tu.setStage(s, {});
     for (size_t i = 0; i < meshes_.size(); ++i) {
