@@ -22,6 +22,13 @@ namespace rg::raster::detail {
 
 namespace sse {
 
+// The bytes of an RGBA8 pixel the colour write mask lets through (0xFF per enabled
+// channel), for selecting between the new and the stored pixel.
+inline uint32_t writeMaskBytes(uint8_t mask) {
+    return (mask & kWriteR ? 0x000000FFu : 0u) | (mask & kWriteG ? 0x0000FF00u : 0u) |
+           (mask & kWriteB ? 0x00FF0000u : 0u) | (mask & kWriteA ? 0xFF000000u : 0u);
+}
+
 [[gnu::always_inline]] inline __m128i broadcastAlpha(__m128i x) {  // 16-bit lanes: (r g b a)(r g b a) → (a a a a)(a a a a)
     return _mm_shufflehi_epi16(_mm_shufflelo_epi16(x, 0xFF), 0xFF);
 }
@@ -278,11 +285,7 @@ template <bool kDepth, int kBlendMode>
     // mesh of tiny triangles takes this path for nearly every quad), their enabled channels.
     __m128i m = _mm_load_si128(reinterpret_cast<const __m128i*>(sse::kPixelMask[passed]));
     if (st.colorWriteMask != kWriteRGBA) {
-        const uint32_t channels = (st.colorWriteMask & kWriteR ? 0x000000FFu : 0u) |
-                                  (st.colorWriteMask & kWriteG ? 0x0000FF00u : 0u) |
-                                  (st.colorWriteMask & kWriteB ? 0x00FF0000u : 0u) |
-                                  (st.colorWriteMask & kWriteA ? 0xFF000000u : 0u);
-        m = _mm_and_si128(m, _mm_set1_epi32(int(channels)));
+        m = _mm_and_si128(m, _mm_set1_epi32(int(sse::writeMaskBytes(st.colorWriteMask))));
     }
     out = _mm_or_si128(_mm_and_si128(m, out), _mm_andnot_si128(m, dst));
     _mm_storel_epi64(reinterpret_cast<__m128i*>(color + row0), out);

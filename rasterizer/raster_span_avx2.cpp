@@ -186,10 +186,7 @@ __attribute__((target("avx2"), always_inline)) inline void pairOutputAvx2(
         rc.blendOps += uint64_t(n);
     }
     if (!(passed == 0xFFu && st.colorWriteMask == kWriteRGBA)) {
-        const uint32_t channels = (st.colorWriteMask & kWriteR ? 0x000000FFu : 0u) |
-                                  (st.colorWriteMask & kWriteG ? 0x0000FF00u : 0u) |
-                                  (st.colorWriteMask & kWriteB ? 0x00FF0000u : 0u) |
-                                  (st.colorWriteMask & kWriteA ? 0xFF000000u : 0u);
+        const uint32_t channels = sse::writeMaskBytes(st.colorWriteMask);
         alignas(32) uint32_t m[8];
         for (int k = 0; k < 8; ++k) m[k] = (passed & (1u << k)) ? channels : 0u;
         const __m256i mask = _mm256_load_si256(reinterpret_cast<const __m256i*>(m));

@@ -179,10 +179,7 @@ void spanBlend(const DrawContext& dc, const SetupTriangle& t, const Box& box, Rg
     std::memcpy(&bits, &color, 4);
     const __m128i zero = _mm_setzero_si128();
     const __m128i src16 = _mm_unpacklo_epi8(_mm_set1_epi32(int(bits)), zero);  // two pixels
-    const __m128i keep = _mm_set1_epi32(int((mask & kWriteR ? 0x000000FFu : 0u) |
-                                            (mask & kWriteG ? 0x0000FF00u : 0u) |
-                                            (mask & kWriteB ? 0x00FF0000u : 0u) |
-                                            (mask & kWriteA ? 0xFF000000u : 0u)));
+    const __m128i keep = _mm_set1_epi32(int(sse::writeMaskBytes(mask)));
     constantSpans(dc, t, box, alphaPasses(st, color), rc, [&](Rgba8* row, int l, int r) {
         rc.blendOps += uint64_t(r - l + 1);
         int x = l;
