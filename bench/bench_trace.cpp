@@ -29,18 +29,17 @@
 #include "harness.h"
 #include "mesa_peer.h"
 #include "rasterizer/trace.h"
+#include "trace_replay.h"
 
 namespace rg::bench {
-namespace {
 
-void runOurs(benchmark::State& state, const std::shared_ptr<const raster::Trace>& trace, Path path,
-             int threads) {
+void runTraceOnOurs(benchmark::State& state, const raster::Trace& trace, Path path, int threads) {
     raster::ReplayOptions options;
     options.path = path;
     options.threads = threads;
     for (auto _ : state) {
         auto t0 = std::chrono::steady_clock::now();
-        raster::ReplayResult r = raster::replayTrace(*trace, options);
+        raster::ReplayResult r = raster::replayTrace(trace, options);
         benchmark::DoNotOptimize(r.framebuffer.color().data());
         // Wall-clock time, as the llvmpipe side is measured (manual time on both sides
         // also gives both the same name suffix, which the harness pairs on).
@@ -50,7 +49,12 @@ void runOurs(benchmark::State& state, const std::shared_ptr<const raster::Trace>
     state.SetItemsProcessed(state.iterations());
 }
 
-}  // namespace
+void runTraceOnMesa(benchmark::State& state, const std::shared_ptr<const raster::Trace>& trace,
+                    int threads) {
+    runMesaBenchmark(
+        state, trace->width, trace->height, threads, [] {},
+        [trace] { conformance::playOnCurrentContext(*trace); }, 1);
+}
 
 void registerTraceBenchmarks(const std::string& file, bool referencePath,
                              const std::vector<int>& threadCounts) {
@@ -61,17 +65,13 @@ void registerTraceBenchmarks(const std::string& file, bool referencePath,
     for (int t : threadCounts) {
         const std::string suffix = "/threads:" + std::to_string(t);
         benchmark::RegisterBenchmark((workload + "/retroglass" + suffix).c_str(),
-                                     [trace, path, t](benchmark::State& s) { runOurs(s, trace, path, t); })
+                                     [trace, path, t](benchmark::State& s) { runTraceOnOurs(s, *trace, path, t); })
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
         if (!unsupported.empty()) continue;
         benchmark::RegisterBenchmark(
             (workload + "/llvmpipe" + suffix).c_str(),
-            [trace, t](benchmark::State& s) {
-                runMesaBenchmark(
-                    s, trace->width, trace->height, t, [] {},
-                    [trace] { conformance::playOnCurrentContext(*trace); }, 1);
-            })
+            [trace, t](benchmark::State& s) { runTraceOnMesa(s, trace, t); })
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
     }

@@ -85,6 +85,19 @@ int runReproduce(const std::string& name, const std::string& quality, const std:
     base.mover = mover;
     base.capture = g.capture;
     if (name != "all") rg::demos::findReproduction(name);  // an unknown name is an error
+    if (!g.capture.empty()) {
+        // One file holds one frame: name the reproduction, and one that records a frame.
+        std::string which;
+        for (const rg::demos::Reproduction* r : rg::demos::reproductions())
+            if (r->built() && !r->capturedFrame().empty())
+                which += (which.empty() ? "" : ", ") + r->name();
+        if (name == "all")
+            throw rg::Error("--capture records one reproduction's frame: name it (" + which + ")");
+        const std::string frame = rg::demos::findReproduction(name).capturedFrame();
+        if (frame.empty())
+            throw rg::Error("--capture: " + name + " records no frame as a trace yet (" + which + " do)");
+        std::printf("%-10s --capture %s: %s\n", name.c_str(), g.capture.c_str(), frame.c_str());
+    }
 
     int status = 0;
     fs::create_directories(outDir);
@@ -227,6 +240,8 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     try {
         registerTracePrograms();
+        if (!g.capture.empty() && !*reproduce)
+            throw rg::Error("--capture records the frame a reproduction times: use it with `reproduce <name>`");
         if (*profiles) return runProfiles();
         if (*reproduce) return runReproduce(reproName, quality, outDir, scene, views, mover, g);
         if (*test) return runTests(testArgs, g);

@@ -108,6 +108,11 @@ struct BenchCase {
     // the same rays), registered as <name>/<peer>/threads:N so the harness prints the ratio.
     std::string peer;
     Setup setupPeer;
+    // Optional: the frame's emulated-device commands, captured once as trace bytes
+    // (docs/trace-format.md). `retroglass bench` then also times their replay on ours and on
+    // Mesa llvmpipe as <name>_passes/{retroglass,llvmpipe}/threads:N, so the passes alone
+    // have a pipeline peer in the same run beside the whole frame's peer.
+    std::function<std::vector<uint8_t>()> capture;
 };
 
 class Reproduction {
@@ -141,6 +146,10 @@ class Reproduction {
     }
     // `retroglass bench`: the paper's frame workloads.
     virtual std::vector<BenchCase> benchCases() const { return {}; }
+    // `retroglass --capture FILE reproduce <name>`: which frame reproduce() records into
+    // options.capture (docs/trace-format.md); empty when it records none, and then
+    // --capture is an error rather than silently ignored.
+    virtual std::string capturedFrame() const { return {}; }
     // The paper's programmable-profile programs, registered by name for traces
     // (rg::raster::registerProgram<VP, FP, V>("<paper>/<pass>"), and registerGlslTwin for a
     // program with a GLSL twin; rasterizer/include/rasterizer/program_registry.h), so that

@@ -15,6 +15,7 @@
 #include "pem_demo.h"
 #include "hybrid_precompute.h"
 #include "hybrid_renderer.h"
+#include "rasterizer/trace.h"
 #include "raycore/builtin_scenes.h"
 #include "raycore/tracer_two_term.h"
 #include "reproduce_hybrid.h"
@@ -106,6 +107,19 @@ demos::BenchCase frameCase(const std::string& name, int width, int height, int s
                 {"triangles_culled", double(f->device->counters().trianglesCulled)},
                 {"texel_fetches", double(f->device->counters().texture.texelFetches)}};
         });
+    };
+    // The frame's 4n layer passes and alpha clears as a trace (the vertex rays and the
+    // tessellation are done before recording starts): `retroglass bench` replays them on
+    // ours and on llvmpipe, the pipeline peer of the passes that bound this frame.
+    c.capture = [=] {
+        FrameFixture f(0, width, height, subsample, tau);
+        f.renderer->prepare(f.camera);
+        auto recorder = std::make_shared<raster::TraceRecorder>();
+        f.device->setRecorder(recorder);
+        f.renderer->draw(f.a, &f.b, 0.5f);
+        f.device->setRecorder(nullptr);
+        recorder->finish();
+        return recorder->bytes();
     };
     // The peer: the uniform ray tracer of 000 §6 on the same scene and view, the same ray
     // code (raycore's greedy two-term tracer), n×n rays per pixel.

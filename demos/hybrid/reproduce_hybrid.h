@@ -53,6 +53,9 @@ class HybridReproduction final : public demos::Reproduction {
                                               const std::vector<ray::Camera>& views,
                                               const demos::PrepareOptions& options) const override;
     std::vector<demos::BenchCase> benchCases() const override;
+    std::string capturedFrame() const override {
+        return "the frame the §6 table times (between two samples: 4n layer passes and the alpha clears)";
+    }
     std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
 };
 

@@ -35,6 +35,9 @@ class PemReproduction final : public demos::Reproduction {
                                               const demos::PrepareOptions& options) const override;
     std::unique_ptr<viewer::Demo> makeDemo(const viewer::DemoOptions& options) const override;
     std::vector<demos::BenchCase> benchCases() const override;
+    std::string capturedFrame() const override {
+        return "the frame the PEM viewer times (001 §6), on a viewpoint sample";
+    }
 };
 
 const PemReproduction& pemReproduction();
