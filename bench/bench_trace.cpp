@@ -5,7 +5,8 @@
 // What one replay is, on both sides: the trace already in memory (read once, before
 // timing) played from its initial framebuffer contents to the end, texture uploads
 // (all levels, from the trace's texels) and read-backs included.
-//   ours      raster::replayTrace(): a fresh Device, its textures, every command
+//   ours      raster::replayTrace(): a fresh Device, its textures, every command (no
+//             hash of the result: ReplayOptions::hash)
 //   llvmpipe  conformance::playOnCurrentContext() in bench/mesa_peer's child process
 //             (llvmpipe takes its thread count per process): glTexImage of every texture
 //             (deleted again after the replay), every command, glFinish. The OSMesa
@@ -37,6 +38,7 @@ void runTraceOnOurs(benchmark::State& state, const raster::Trace& trace, Path pa
     raster::ReplayOptions options;
     options.path = path;
     options.threads = threads;
+    options.hash = false;  // the llvmpipe side hashes nothing either
     for (auto _ : state) {
         auto t0 = std::chrono::steady_clock::now();
         raster::ReplayResult r = raster::replayTrace(trace, options);

@@ -137,9 +137,11 @@ ReplayResult detail::replayProgrammableTrace(const Trace& trace, const ReplayOpt
             out[i] = t->isFloat() ? tex::floatToRgba8(t->texelFloat(level, face, x, y, 0, 0))
                                   : t->texel8(level, face, x, y, 0, 0);
         }
-        const std::vector<uint8_t> values = levelValues(*t, level, face);
-        result.hash = sha256Hex(values.data(), values.size());
-    } else {
+        if (options.hash) {
+            const std::vector<uint8_t> values = levelValues(*t, level, face);
+            result.hash = sha256Hex(values.data(), values.size());
+        }
+    } else if (options.hash) {
         result.hash = sha256Hex(nullptr, 0);
     }
     return result;

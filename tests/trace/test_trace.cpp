@@ -201,5 +201,19 @@ TEST(TraceReplay, PassKStopsAtTheEndOfPassK) {
     EXPECT_THROW(replayTrace(t, {Path::Reference, 1, 3}), TraceError);
 }
 
+// ReplayOptions::hash = false (the bench's replays): the same framebuffer, no hash; the
+// default hash is the SHA-256 of the framebuffer's bytes, as `retroglass replay` prints.
+TEST(TraceReplay, WithoutTheHashTheFramebufferIsTheSame) {
+    Framebuffer live;
+    const Trace t = readTrace(golden::buildGoldenTrace("passes-readback", &live));
+    ReplayOptions noHash;
+    noHash.hash = false;
+    const ReplayResult quiet = replayTrace(t, noHash);
+    const ReplayResult hashed = replayTrace(t);
+    EXPECT_TRUE(quiet.hash.empty());
+    EXPECT_EQ(hashed.hash, sha256Hex(live.color().data(), live.color().size() * sizeof(Rgba8)));
+    EXPECT_EQ(framebufferHash(quiet.framebuffer), hashed.hash);
+}
+
 }  // namespace
 }  // namespace rg::raster

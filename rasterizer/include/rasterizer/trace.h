@@ -270,6 +270,10 @@ struct ReplayOptions {
     // Called for every rasterized 2×2 quad of a fixed-function trace
     // (Device::setFragmentObserver): which pixels a documented choice decides.
     std::function<void(const tex::FragmentQuad&, uint8_t passed)> fragmentObserver = nullptr;
+    // false: ReplayResult::hash stays empty. `retroglass bench` times the commands against
+    // llvmpipe, whose side computes no hash (the SHA-256 of a 640×480 frame was 3 % of a
+    // replay of hybrid's passes).
+    bool hash = true;
 };
 
 struct ReplayResult {
