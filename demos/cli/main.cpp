@@ -96,6 +96,18 @@ int runReproduce(const std::string& name, const std::string& quality, const std:
         const std::string frame = rg::demos::findReproduction(name).capturedFrame();
         if (frame.empty())
             throw rg::Error("--capture: " + name + " records no frame as a trace yet (" + which + " do)");
+        if (!views.empty())
+            throw rg::Error("--capture records a frame of the evaluation, which a --views shard "
+                            "does not run: capture from `reproduce " + name + "` without --views");
+        // The file is written after the whole reproduction: a path that cannot be written
+        // is refused now, not after minutes of precompute (the probe leaves no file behind).
+        {
+            const bool existed = fs::exists(g.capture);
+            std::ofstream probe(g.capture, std::ios::binary | std::ios::app);
+            if (!probe) throw rg::Error("--capture: cannot write '" + g.capture + "'");
+            probe.close();
+            if (!existed) fs::remove(g.capture);
+        }
         std::printf("%-10s --capture %s: %s\n", name.c_str(), g.capture.c_str(), frame.c_str());
     }
 
