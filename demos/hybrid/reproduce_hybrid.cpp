@@ -1137,7 +1137,10 @@ nlohmann::json runHybrid(HybridSettings S, const demos::ReproduceOptions& option
            << "% of the hybrid frame, where the paper's GeForce drew them in hardware. So the time reduction ("
            << num(t3["time_reduction"].get<double>(), 2) << "× at τ = " << num(S.pre.tau, 0)
            << ") does not follow the ray and test reductions; the paper's 25–45× came from 78 µs rays and "
-              "hardware texturing.\n\n";
+              "hardware texturing. How fast the emulated passes are for what they draw is measured against "
+              "Mesa's llvmpipe on the same commands, captured from the frame: `retroglass bench --filter "
+              "'hybrid_.*_passes'` (docs/performance.md, \"The frame's passes against llvmpipe\"; "
+              "`retroglass --capture FILE reproduce hybrid` records this table's frame).\n\n";
     }
     rep.heading("Quality against the ray tracer");
     {
