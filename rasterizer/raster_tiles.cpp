@@ -411,10 +411,9 @@ template <bool kSingleQuad, bool kDepth, int kBlendMode>
                                                    uint32_t end, const Box* tile,
                                                    QuadWalkFn walk, WalkScratch& scratch,
                                                    RasterCounters& rc) {
-    const bool spanFillable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
-                              !dc.st.blend;
-    const bool spanBlendable = dc.passThrough && !dc.st.specularEnable && !dc.depthOn &&
-                               dc.st.blend;
+    // No texture, specular or depth: a triangle of one colour goes span by span
+    // (spanBlend when blending, else spanFill).
+    const bool spanPath = dc.passThrough && !dc.st.specularEnable && !dc.depthOn;
     const SetupTriangle* tris = chunk.tris.data();
     const uint32_t* items = chunk.binItems.data();
     for (uint32_t k = begin; k < end; ++k) {
@@ -428,10 +427,8 @@ template <bool kSingleQuad, bool kDepth, int kBlendMode>
         Rgba8 color;
         if (kSingleQuad && inOneQuad(box))
             singleQuad<kDepth, kBlendMode>(dc, t, box, rc);
-        else if (spanFillable && constantColor(dc, t, color))
-            spanFill(dc, t, box, color, rc);
-        else if (spanBlendable && constantColor(dc, t, color))
-            spanBlend(dc, t, box, color, rc);
+        else if (spanPath && constantColor(dc, t, color))
+            (dc.st.blend ? spanBlend : spanFill)(dc, t, box, color, rc);
         else
             walk(dc, t, chunk.texPlanes.data(), box, scratch, rc);
     }
